@@ -1,0 +1,44 @@
+// Buttons: the kiosk's few big hardware buttons (GPIO) or the keyboard standing in for them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace emboss {
+
+// What a button does. The mapping from a physical line or key to an action is configuration.
+enum class Action {
+  None,
+  NextTool,
+  PrevTool,
+  SizeUp,
+  SizeDown,
+  NextMetal,
+  Undo,
+  Redo,
+  Turn,      // turn the workpiece (the paper's rotation); pressed again: back
+  NewSheet,
+  Staff,     // a chord or long press of configured buttons enters staff mode
+  Quit,      // development only (keyboard)
+};
+
+const char* actionName(Action a);
+Action actionFromName(const std::string& name);  // Action::None when unknown
+
+struct ButtonEvent {
+  double time_s = 0.0;
+  Action action = Action::None;
+  bool pressed = true;  // false on release
+  bool longPress = false;
+};
+
+class ButtonSource {
+ public:
+  virtual ~ButtonSource() = default;
+  virtual std::string name() const = 0;
+  // Appends the events available now; false when the device is gone.
+  virtual bool poll(std::vector<ButtonEvent>& out) = 0;
+  virtual int fd() const { return -1; }
+};
+
+}  // namespace emboss

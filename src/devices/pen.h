@@ -1,0 +1,40 @@
+// The pen: samples from a pressure tablet (real, replayed or the mouse), normalised to the tablet.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace emboss {
+
+// One pen sample. x and y run 0..1 across the tablet's active area (x right, y down, as the device
+// reports them); pressure runs 0..1. time_s is seconds on the source's own clock (for a recording,
+// the recording's time stamps; for a live device, CLOCK_MONOTONIC).
+struct PenSample {
+  double time_s = 0.0;
+  double x = 0.0;
+  double y = 0.0;
+  double pressure = 0.0;
+  bool tip = false;      // the tip touches the surface
+  bool inRange = false;  // the pen is in proximity (hovering or touching)
+  bool barrel1 = false;
+  bool barrel2 = false;
+};
+
+// A source of pen samples. poll() never blocks; the main loop waits on fd() where there is one.
+// Thread-safety: one thread (the main loop) uses a source.
+class PenSource {
+ public:
+  virtual ~PenSource() = default;
+  // What this source is, for the log and the staff screen ("evdev: Wacom Intuos4 6x9 Pen").
+  virtual std::string name() const = 0;
+  // Appends the samples available now. Returns false when the device is gone (unplugged); the
+  // caller then drops it and asks the back ends again.
+  virtual bool poll(std::vector<PenSample>& out) = 0;
+  // A file descriptor to wait on, or -1 when the source must be polled.
+  virtual int fd() const { return -1; }
+  // True when a recording has been played to its end.
+  virtual bool finished() const { return false; }
+};
+
+}  // namespace emboss
