@@ -1,0 +1,30 @@
+// emboss: the command line (eval, render, export, bench) over the portable core.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"emboss: virtual metal embossing (F-rep model of Sourin 2001, CPU ray tracing)"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Every subcommand's help");
+  emboss::cli::Commands commands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;  // bad usage
+  }
+  try {
+    return commands.run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "emboss: %s\n", e.what());
+    return 1;
+  }
+}

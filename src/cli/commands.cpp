@@ -1,0 +1,228 @@
+// The `emboss` subcommands: eval, render, export (bench lives in bench.cpp).
+#include "cli/commands.h"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "export/pov.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace emboss::cli {
+
+namespace {
+
+bool parseSize(const std::string& s, int& w, int& h) {
+  return std::sscanf(s.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 16384 && h <= 16384;
+}
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+ShadingParams shadingFor(const Scene& scene, const Model& model) {
+  ShadingParams s;
+  s.metal = *metalByName(scene.metal);
+  s.tinge = *tingeByName(scene.tinge);
+  s.frontZ = model.workpiece().bounds().z1;
+  return s;
+}
+
+}  // namespace
+
+int benchMain(const std::string& out, int threads, bool quick);
+
+Commands::Commands(CLI::App& app) : app_(app) {
+  evalCmd_ = app.add_subcommand("eval", "Print f (>= 0 inside) of a scene's model at points");
+  evalCmd_->add_option("scene", scene_, "Scene file (JSON)")->required();
+  evalCmd_->add_option("xyz", xyz_, "A point: X Y Z (mm)")->expected(3);
+  evalCmd_->add_option("--points", pointsFile_, "A file of 'x y z' lines; prints one value per line");
+
+  renderCmd_ = app.add_subcommand("render", "Ray trace a scene to a PNG");
+  renderCmd_->add_option("scene", scene_, "Scene file (JSON)")->required();
+  renderCmd_->add_option("-o,--output", out_, "Output PNG")->required();
+  renderCmd_->add_option("--size", size_, "Picture size WxH")->capture_default_str();
+  renderCmd_->add_option("--threads", threads_, "Threads in the pool (0: one per core)")->check(CLI::Range(0, 256));
+  renderCmd_->add_option("--repeat", repeat_, "Render the whole frame N times, no reuse; writes the last")->check(CLI::Range(1, 100000));
+  renderCmd_->add_flag("--naive", naive_, "No index: every operation at every point (for comparison)");
+  renderCmd_->add_flag("--stats", stats_, "Print mean steps per ray, operations per evaluation, pixels traced");
+  renderCmd_->add_flag("--incremental", incremental_,
+                       "Render the bare workpiece, then apply the operations one by one with dirty updates only");
+
+  exportCmd_ = app.add_subcommand("export", "Export a scene for another program");
+  exportCmd_->add_option("scene", scene_, "Scene file (JSON)")->required();
+  exportCmd_->add_option("--format", format_, "pov (POV-Ray 3.7 isosurface)")->check(CLI::IsMember({"pov"}));
+  exportCmd_->add_option("-o,--output", out_, "Output file")->required();
+  exportCmd_->add_option("--size", size_, "Picture size WxH the POV camera is set up for")->capture_default_str();
+
+  benchCmd_ = app.add_subcommand("bench", "Benchmark the renderer on generated pieces; prints a table");
+  benchCmd_->add_option("-o,--output", out_, "Also write the table (Markdown) to this file");
+  benchCmd_->add_option("--threads", threads_, "Threads in the pool (0: one per core)")->check(CLI::Range(0, 256));
+  benchCmd_->add_flag("--quick", quick_, "Small sizes, for a smoke test");
+}
+
+int Commands::run() {
+  if (evalCmd_->parsed()) return eval();
+  if (renderCmd_->parsed()) return render();
+  if (exportCmd_->parsed()) return exportScene();
+  if (benchCmd_->parsed()) return bench();
+  return 2;
+}
+
+int Commands::eval() {
+  auto scene = loadScene(scene_);
+  if (!scene) {
+    std::fprintf(stderr, "emboss eval: %s\n", scene.error().c_str());
+    return 1;
+  }
+  auto model = scene->makeModel();
+  if (!model) {
+    std::fprintf(stderr, "emboss eval: %s\n", model.error().c_str());
+    return 1;
+  }
+  if (xyz_.empty() == pointsFile_.empty()) {
+    std::fprintf(stderr, "emboss eval: give either a point X Y Z or --points FILE\n");
+    return 2;
+  }
+  if (!xyz_.empty()) {
+    std::printf("%.17g\n", model->evaluate(P3<double>{xyz_[0], xyz_[1], xyz_[2]}));
+    return 0;
+  }
+  std::ifstream in(pointsFile_);
+  if (!in) {
+    std::fprintf(stderr, "emboss eval: cannot open '%s'\n", pointsFile_.c_str());
+    return 1;
+  }
+  std::string line;
+  int lineNo = 0;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+    std::istringstream ls(line);
+    double x, y, z;
+    if (!(ls >> x >> y >> z)) {
+      std::fprintf(stderr, "emboss eval: %s:%d: expected three numbers 'x y z'\n", pointsFile_.c_str(), lineNo);
+      return 1;
+    }
+    std::printf("%.17g\n", model->evaluate(P3<double>{x, y, z}));
+  }
+  return 0;
+}
+
+int Commands::render() {
+  int w, h;
+  if (!parseSize(size_, w, h)) {
+    std::fprintf(stderr, "emboss render: --size must be WxH, e.g. 1280x800\n");
+    return 2;
+  }
+  auto scene = loadScene(scene_);
+  if (!scene) {
+    std::fprintf(stderr, "emboss render: %s\n", scene.error().c_str());
+    return 1;
+  }
+  auto model = scene->makeModel();
+  if (!model) {
+    std::fprintf(stderr, "emboss render: %s\n", model.error().c_str());
+    return 1;
+  }
+  ThreadPool pool(threads_);
+  Renderer renderer(pool);
+  renderer.setCamera(Camera(scene->camera, w, h));
+  renderer.setShading(shadingFor(*scene, *model));
+  RenderOptions options;
+  options.naive = naive_;
+  renderer.setOptions(options);
+  Image image;
+  RenderStats stats;
+  double totalMs = 0.0;
+
+  if (incremental_) {
+    // Start from the bare sheet and replay the operations as a visitor would, tracing only what
+    // each one can change.
+    Model live(model->workpiecePtr(), model->deformation());
+    auto t0 = std::chrono::steady_clock::now();
+    renderer.sync(live);
+    renderer.renderFull(image, &stats);
+    const double firstMs = msSince(t0);
+    double sum = 0.0, worst = 0.0;
+    long pixels = 0;
+    for (size_t i = 0; i < model->activeCount(); ++i) {
+      t0 = std::chrono::steady_clock::now();
+      live.add(model->operations()[i].op());
+      renderer.sync(live);
+      const Rect r = renderer.dirtyRect(live, i);
+      renderer.render(image, r, &stats);
+      const double ms = msSince(t0);
+      sum += ms;
+      worst = std::max(worst, ms);
+      pixels += r.area();
+    }
+    const size_t n = model->activeCount();
+    std::printf("incremental: first frame %.1f ms; %zu updates, mean %.2f ms, worst %.2f ms, mean %.0f pixels per update\n",
+                firstMs, n, n ? sum / n : 0.0, worst, n ? static_cast<double>(pixels) / n : 0.0);
+  } else {
+    renderer.sync(*model);
+    for (int i = 0; i < repeat_; ++i) {
+      RenderStats st;
+      const auto t0 = std::chrono::steady_clock::now();
+      renderer.renderFull(image, &st);
+      totalMs += msSince(t0);
+      stats = st;
+    }
+    std::printf("render: %dx%d, %zu operations, %d threads, %.1f ms per frame (mean of %d)\n", w, h, model->activeCount(),
+                pool.size(), totalMs / repeat_, repeat_);
+  }
+  if (stats_) {
+    std::printf("stats: pixels traced %llu, hits %llu, mean steps per ray %.2f, mean operations per evaluation %.2f\n",
+                static_cast<unsigned long long>(stats.rays), static_cast<unsigned long long>(stats.hits), stats.meanStepsPerRay(),
+                stats.meanOpsPerEvaluation());
+  }
+  Status s = writePng(image, out_);
+  if (!s) {
+    std::fprintf(stderr, "emboss render: %s\n", s.error().c_str());
+    return 1;
+  }
+  std::printf("wrote %s\n", out_.c_str());
+  return 0;
+}
+
+int Commands::exportScene() {
+  int w, h;
+  if (!parseSize(size_, w, h)) {
+    std::fprintf(stderr, "emboss export: --size must be WxH, e.g. 1280x800\n");
+    return 2;
+  }
+  auto scene = loadScene(scene_);
+  if (!scene) {
+    std::fprintf(stderr, "emboss export: %s\n", scene.error().c_str());
+    return 1;
+  }
+  auto model = scene->makeModel();
+  if (!model) {
+    std::fprintf(stderr, "emboss export: %s\n", model.error().c_str());
+    return 1;
+  }
+  PovExportOptions options;
+  options.width = w;
+  options.height = h;
+  auto text = exportPov(*scene, *model, options);
+  if (!text) {
+    std::fprintf(stderr, "emboss export: %s\n", text.error().c_str());
+    return 1;
+  }
+  Status s = writeFileAtomically(out_, *text);
+  if (!s) {
+    std::fprintf(stderr, "emboss export: %s\n", s.error().c_str());
+    return 1;
+  }
+  std::printf("wrote %s\n", out_.c_str());
+  return 0;
+}
+
+int Commands::bench() { return benchMain(out_, threads_, quick_); }
+
+}  // namespace emboss::cli

@@ -1,0 +1,46 @@
+// The `emboss` subcommands, kept in the core so the tests can call them without a process.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace emboss::cli {
+
+// Registers the subcommands on `app` at construction; run() executes the one that was parsed and
+// returns the exit code (0 ok, 1 failure; bad usage is CLI11's, mapped to 2 by main()).
+class Commands {
+ public:
+  explicit Commands(CLI::App& app);
+  int run();
+
+ private:
+  int eval();
+  int render();
+  int exportScene();
+  int bench();
+
+  CLI::App& app_;
+  CLI::App* evalCmd_ = nullptr;
+  CLI::App* renderCmd_ = nullptr;
+  CLI::App* exportCmd_ = nullptr;
+  CLI::App* benchCmd_ = nullptr;
+
+  std::string scene_;
+  std::vector<double> xyz_;
+  std::string pointsFile_;
+  std::string out_;
+  std::string size_ = "1280x800";
+  std::string format_ = "pov";
+  int threads_ = 0;
+  int repeat_ = 1;
+  bool naive_ = false;
+  bool stats_ = false;
+  bool incremental_ = false;
+  bool quick_ = false;
+};
+
+}  // namespace emboss::cli

@@ -1,0 +1,115 @@
+// The operation grid: construction, incremental updates and lookups.
+#include "frep/op_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace emboss {
+
+void OpGrid::build(const Model& model) {
+  const Box3 b = model.workpiece().bounds();
+  const double sx = b.x1 - b.x0, sy = b.y1 - b.y0;
+  cell_ = requestedCell_ > 0 ? requestedCell_ : std::max(sx, sy) / 256.0;
+  if (!(cell_ > 0)) cell_ = 1.0;
+  // A margin of cells around the workpiece keeps tools at the rim in their own cells.
+  x0_ = b.x0 - 8 * cell_;
+  y0_ = b.y0 - 8 * cell_;
+  nx_ = static_cast<int>(std::ceil(sx / cell_)) + 16;
+  ny_ = static_cast<int>(std::ceil(sy / cell_)) + 16;
+  cells_.assign(static_cast<size_t>(nx_) * ny_, {});
+  ids_.clear();
+  supports_.clear();
+  workpiece_ = &model.workpiece();
+}
+
+bool OpGrid::cellRange(const Box2& b, int& cx0, int& cy0, int& cx1, int& cy1) const {
+  if (b.empty()) return false;
+  // Supports beyond the grid are clamped to its border cells: lookups there clamp the same way.
+  auto clampX = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - x0_) / cell_)), 0, nx_ - 1); };
+  auto clampY = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - y0_) / cell_)), 0, ny_ - 1); };
+  cx0 = clampX(b.x0), cx1 = clampX(b.x1), cy0 = clampY(b.y0), cy1 = clampY(b.y1);
+  return true;
+}
+
+void OpGrid::insert(std::uint32_t index, const Box2& support) {
+  int cx0, cy0, cx1, cy1;
+  if (!cellRange(support, cx0, cy0, cx1, cy1)) return;
+  for (int cy = cy0; cy <= cy1; ++cy)
+    for (int cx = cx0; cx <= cx1; ++cx) {
+      auto& list = cells_[static_cast<size_t>(cy) * nx_ + cx];
+      // Appends keep the lists ascending; an insert below the end happens only after a removal.
+      if (list.empty() || list.back() < index)
+        list.push_back(index);
+      else
+        list.insert(std::lower_bound(list.begin(), list.end(), index), index);
+    }
+}
+
+void OpGrid::remove(std::uint32_t index, const Box2& support) {
+  int cx0, cy0, cx1, cy1;
+  if (!cellRange(support, cx0, cy0, cx1, cy1)) return;
+  for (int cy = cy0; cy <= cy1; ++cy)
+    for (int cx = cx0; cx <= cx1; ++cx) {
+      auto& list = cells_[static_cast<size_t>(cy) * nx_ + cx];
+      auto it = std::lower_bound(list.begin(), list.end(), index);
+      if (it != list.end() && *it == index) list.erase(it);
+    }
+}
+
+size_t OpGrid::sync(const Model& model) {
+  if (workpiece_ != &model.workpiece() || cells_.empty()) build(model);
+  const auto& ops = model.operations();
+  const auto& ids = model.operationIds();
+  // The first index where the model differs from what is indexed.
+  size_t k = 0;
+  while (k < ids_.size() && k < ids.size() && ids_[k] == ids[k]) ++k;
+  for (size_t i = ids_.size(); i-- > k;) remove(static_cast<std::uint32_t>(i), supports_[i]);
+  ids_.resize(k);
+  supports_.resize(k);
+  size_t inserted = 0;
+  for (size_t i = k; i < ops.size(); ++i) {
+    insert(static_cast<std::uint32_t>(i), ops[i].support());
+    ids_.push_back(ids[i]);
+    supports_.push_back(ops[i].support());
+    ++inserted;
+  }
+  activeCount_ = model.activeCount();
+  return inserted;
+}
+
+std::span<const std::uint32_t> OpGrid::at(double x, double y, std::vector<std::uint32_t>&) const {
+  if (cells_.empty()) return {};
+  const int cx = std::clamp(static_cast<int>(std::floor((x - x0_) / cell_)), 0, nx_ - 1);
+  const int cy = std::clamp(static_cast<int>(std::floor((y - y0_) / cell_)), 0, ny_ - 1);
+  const auto& list = cells_[static_cast<size_t>(cy) * nx_ + cx];
+  // Active operations are a prefix of every ascending list.
+  const auto end = std::lower_bound(list.begin(), list.end(), static_cast<std::uint32_t>(activeCount_));
+  return {list.data(), static_cast<size_t>(end - list.begin())};
+}
+
+std::span<const std::uint32_t> OpGrid::in(const Box2& box, std::vector<std::uint32_t>& scratch) const {
+  int cx0, cy0, cx1, cy1;
+  if (cells_.empty() || !cellRange(box, cx0, cy0, cx1, cy1)) return {};
+  if (cx0 == cx1 && cy0 == cy1) return at(box.x0, box.y0, scratch);
+  scratch.clear();
+  for (int cy = cy0; cy <= cy1; ++cy)
+    for (int cx = cx0; cx <= cx1; ++cx) {
+      const auto& list = cells_[static_cast<size_t>(cy) * nx_ + cx];
+      for (std::uint32_t i : list) {
+        if (i >= activeCount_) break;
+        scratch.push_back(i);
+      }
+    }
+  std::sort(scratch.begin(), scratch.end());
+  scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
+  return scratch;
+}
+
+double OpGrid::meanListLength() const {
+  size_t n = 0, sum = 0;
+  for (const auto& c : cells_)
+    if (!c.empty()) ++n, sum += c.size();
+  return n ? static_cast<double>(sum) / n : 0.0;
+}
+
+}  // namespace emboss

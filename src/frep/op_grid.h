@@ -1,0 +1,53 @@
+// A regular grid over the plate's plane that lists, per cell, the operations whose support meets it.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "frep/model.h"
+
+namespace emboss {
+
+// The paper's "regular grid over the model", over exact supports. Each cell keeps the ascending
+// indices of the operations whose support rectangle overlaps it; a lookup returns those below the
+// model's active count, so undo and redo cost nothing. sync() follows the model incrementally: an
+// appended operation is inserted into the cells under its support only; operations dropped or
+// replaced (an add after an undo) are removed from theirs. Not thread-safe against sync(); lookups
+// are const and may run concurrently.
+class OpGrid {
+ public:
+  // cellSize <= 0 picks one from the workpiece size (about 256 cells across the longer side).
+  explicit OpGrid(double cellSize = 0.0) : requestedCell_(cellSize) {}
+
+  // Brings the grid up to date with the model. Returns the number of operations (re)inserted.
+  size_t sync(const Model& model);
+  // The operations that may affect (x, y): ascending, active only. Exact superset of those whose
+  // support contains the point.
+  std::span<const std::uint32_t> at(double x, double y, std::vector<std::uint32_t>& scratch) const;
+  // The operations whose support may meet the box, ascending, active only, without duplicates.
+  std::span<const std::uint32_t> in(const Box2& box, std::vector<std::uint32_t>& scratch) const;
+
+  double cellSize() const { return cell_; }
+  size_t cellCount() const { return cells_.size(); }
+  // Mean list length over the cells that hold anything (for --stats).
+  double meanListLength() const;
+
+ private:
+  void build(const Model& model);
+  void insert(std::uint32_t index, const Box2& support);
+  void remove(std::uint32_t index, const Box2& support);
+  bool cellRange(const Box2& b, int& cx0, int& cy0, int& cx1, int& cy1) const;
+
+  double requestedCell_;
+  double cell_ = 1.0;
+  double x0_ = 0, y0_ = 0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<std::uint32_t>> cells_;
+  std::vector<std::uint64_t> ids_;     // ids of the operations indexed, by index
+  std::vector<Box2> supports_;         // their supports, to remove them again
+  size_t activeCount_ = 0;
+  const Workpiece* workpiece_ = nullptr;
+};
+
+}  // namespace emboss

@@ -1,0 +1,345 @@
+// The operations' kernels, supports and parameter checks (equations (2), (3), (4) of the paper).
+#include "frep/operation.h"
+
+#include <cmath>
+#include <sstream>
+#include <type_traits>
+
+#include "frep/kernels.h"
+
+namespace emboss {
+
+namespace {
+
+using kernels::kExactSpan;
+using kernels::kSupportSpan;
+
+// The slope of a^3/(t^2+a^2) is at most 9/(8 sqrt 3) (at t = a/sqrt 3), and the taper adds at most
+// peak/10 * 1.875 / L (the kernel is at most a tenth of its peak beyond 3 L, |w'| <= 1.875 / L).
+constexpr double kAgnesiMaxSlope = 0.649519052838329;
+constexpr double kTaperSlopeFactor = 0.1875;
+
+bool finite(double v) { return std::isfinite(v); }
+
+template <class T>
+T segmentDistance2In3D(const P3<T>& p, const Vec3& a, const Vec3& b) {
+  const double ex = b.x - a.x, ey = b.y - a.y, ez = b.z - a.z;
+  const double len2 = ex * ex + ey * ey + ez * ez;
+  const T px = p.x - a.x, py = p.y - a.y, pz = p.z - a.z;
+  if (len2 <= 0.0) return sqr(px) + sqr(py) + sqr(pz);
+  T t = (px * ex + py * ey + pz * ez) * (1.0 / len2);
+  t = min(max(t, T(0.0)), T(1.0));
+  return sqr(px - t * ex) + sqr(py - t * ey) + sqr(pz - t * ez);
+}
+
+// Squared distance from (x, y) to a polyline (closed: the last point joins the first).
+template <class T>
+T polylineDistance2(const T& x, const T& y, const std::vector<Vec2>& pts, bool closed) {
+  if (pts.size() == 1) return sqr(x - pts[0].x) + sqr(y - pts[0].y);
+  T best = kernels::segmentDistance2(x, y, pts[0].x, pts[0].y, pts[1].x, pts[1].y);
+  for (size_t i = 2; i < pts.size(); ++i)
+    best = min(best, kernels::segmentDistance2(x, y, pts[i - 1].x, pts[i - 1].y, pts[i].x, pts[i].y));
+  if (closed && pts.size() > 2)
+    best = min(best, kernels::segmentDistance2(x, y, pts.back().x, pts.back().y, pts[0].x, pts[0].y));
+  return best;
+}
+
+// Odd-parity (even-odd) inside test of a point against a closed contour.
+bool insideContour(double x, double y, const std::vector<Vec2>& c) {
+  bool inside = false;
+  for (size_t i = 0, j = c.size() - 1; i < c.size(); j = i++) {
+    if ((c[i].y > y) != (c[j].y > y)) {
+      const double xc = c[j].x + (y - c[j].y) * (c[i].x - c[j].x) / (c[i].y - c[j].y);
+      if (x < xc) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+// k(t2) * taper(sqrt(t2) / L), with the exact zero beyond the support and no taper work inside 3 L.
+template <class T, class K>
+T tapered(const T& t2, double L, K kernel) {
+  if constexpr (std::is_same_v<T, Interval>) {
+    const double lim = kSupportSpan * L;
+    if (t2.lo >= lim * lim) return Interval(0.0);
+    const Interval k = kernel(t2);
+    const double ex = kExactSpan * L;
+    if (t2.hi <= ex * ex) return k;
+    return k * kernels::taper(sqrt(t2) * (1.0 / L));
+  } else {
+    const double v = valueOf(t2);
+    const double lim = kSupportSpan * L;
+    if (v >= lim * lim) return T(0.0);
+    const T k = kernel(t2);
+    const double ex = kExactSpan * L;
+    if (v <= ex * ex) return k;
+    return k * kernels::taper(sqrt(t2) * (1.0 / L));
+  }
+}
+
+}  // namespace
+
+template <class T>
+T ToolShape::value(const P3<T>& p) const {
+  switch (type) {
+    case Type::Sphere:
+      return r * r - (sqr(p.x - center.x) + sqr(p.y - center.y) + sqr(p.z - center.z));
+    case Type::Cylinder:
+      return r * r - segmentDistance2In3D(p, center, end);
+    case Type::Flat:
+      return min(min(half.x - abs(p.x - center.x), half.y - abs(p.y - center.y)), half.z - abs(p.z - center.z));
+  }
+  return T(-1.0);
+}
+
+Box3 ToolShape::bounds() const {
+  switch (type) {
+    case Type::Sphere:
+      return {center.x - r, center.y - r, center.z - r, center.x + r, center.y + r, center.z + r};
+    case Type::Cylinder:
+      return {std::min(center.x, end.x) - r, std::min(center.y, end.y) - r, std::min(center.z, end.z) - r,
+              std::max(center.x, end.x) + r, std::max(center.y, end.y) + r, std::max(center.z, end.z) + r};
+    case Type::Flat:
+      return {center.x - half.x, center.y - half.y, center.z - half.z,
+              center.x + half.x, center.y + half.y, center.z + half.z};
+  }
+  return {};
+}
+
+double ToolShape::size() const {
+  if (type == Type::Flat) return std::min(half.x, std::min(half.y, half.z));
+  return r;
+}
+
+double Operation::characteristicLength() const {
+  switch (kind) {
+    case OpKind::Trace:
+      return a;
+    case OpKind::Punch:
+    case OpKind::Press:
+      return a / std::sqrt(q);
+    case OpKind::Region:
+      return falloff;
+    default:
+      return tool.size();
+  }
+}
+
+const char* opKindName(OpKind k) {
+  switch (k) {
+    case OpKind::Trace: return "trace";
+    case OpKind::Punch: return "punch";
+    case OpKind::Press: return "press";
+    case OpKind::Region: return "region";
+    case OpKind::BlendUnion: return "blend_union";
+    case OpKind::Subtract: return "subtract";
+    case OpKind::BlendSubtract: return "blend_subtract";
+  }
+  return "?";
+}
+
+std::string validate(const Operation& op) {
+  auto pos = [](double v) { return std::isfinite(v) && v > 0.0; };
+  for (const auto& pt : op.points)
+    if (!finite(pt.x) || !finite(pt.y)) return "points: every coordinate must be a finite number";
+  switch (op.kind) {
+    case OpKind::Trace:
+      if (!pos(op.a)) return "a: must be a positive number (mm)";
+      if (op.points.empty()) return "points: a trace needs at least one point";
+      break;
+    case OpKind::Punch:
+    case OpKind::Press:
+      if (!pos(op.a)) return "a: must be a positive number (mm)";
+      if (!pos(op.q)) return "q: must be a positive number";
+      if (!finite(op.p)) return "p: must be a finite number";
+      if (op.kind == OpKind::Punch && !(finite(op.at.x) && finite(op.at.y) && finite(op.at.z)))
+        return "at: must be three finite numbers";
+      if (op.kind == OpKind::Press && op.points.empty()) return "points: a press needs at least one point";
+      break;
+    case OpKind::Region:
+      if (op.points.size() < 3) return "contour: a region needs a closed contour of at least 3 points";
+      if (!finite(op.height)) return "height: must be a finite number (mm)";
+      if (!pos(op.falloff)) return "falloff: must be a positive number (mm)";
+      break;
+    default: {
+      const ToolShape& t = op.tool;
+      if (!(finite(t.center.x) && finite(t.center.y) && finite(t.center.z))) return "tool.center: must be three finite numbers";
+      if (t.type == ToolShape::Type::Flat) {
+        if (!pos(t.half.x) || !pos(t.half.y) || !pos(t.half.z)) return "tool.size: the flat face's sizes must be positive";
+      } else if (!pos(t.r)) {
+        return "tool.r: must be a positive number (mm)";
+      }
+      if (t.type == ToolShape::Type::Cylinder && !(finite(t.end.x) && finite(t.end.y) && finite(t.end.z)))
+        return "tool.end: must be three finite numbers";
+      if (op.kind != OpKind::Subtract) {
+        if (!finite(op.a1)) return "a1: must be a finite number";
+        if (!pos(op.a2)) return "a2: must be a positive number";
+        if (!pos(op.a3)) return "a3: must be a positive number";
+      }
+    }
+  }
+  return {};
+}
+
+PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
+  const double L = op_.characteristicLength();
+  const double reach = kSupportSpan * L;
+  switch (op_.kind) {
+    case OpKind::Trace: {
+      for (const auto& pt : op_.points) support_.extend(pt.x, pt.y);
+      support_ = support_.grown(reach);
+      maxSlope_ = kAgnesiMaxSlope + op_.a * kTaperSlopeFactor / L;
+      break;
+    }
+    case OpKind::Punch: {
+      support_.extend(op_.at.x, op_.at.y);
+      support_ = support_.grown(reach);
+      const double peak = std::abs(op_.p) * op_.a;
+      maxSlope_ = std::abs(op_.p) * std::sqrt(op_.q) * kAgnesiMaxSlope + peak * kTaperSlopeFactor / L;
+      break;
+    }
+    case OpKind::Press: {
+      // Punch points every L/4 along the path, end points included: along a straight stretch the
+      // sum of (3) over them varies by less than 2e-5 of its height (what is left comes from the
+      // taper window; at L/2 spacing it was 1.5e-4).
+      const double spacing = 0.25 * L;
+      const auto& pts = op_.points;
+      pressPoints_.push_back({pts[0].x, pts[0].y, 0.0});
+      for (size_t i = 1; i < pts.size(); ++i) {
+        const double dx = pts[i].x - pts[i - 1].x, dy = pts[i].y - pts[i - 1].y;
+        const double len = std::hypot(dx, dy);
+        const int n = std::max(1, static_cast<int>(std::ceil(len / spacing)));
+        for (int k = 1; k <= n; ++k) {
+          const double t = static_cast<double>(k) / n;
+          pressPoints_.push_back({pts[i - 1].x + t * dx, pts[i - 1].y + t * dy, 0.0});
+        }
+      }
+      for (const auto& pt : pressPoints_) support_.extend(pt.x, pt.y);
+      support_ = support_.grown(reach);
+      // At most 2 * 4L / spacing + 1 = 33 punch points reach a point of a straight path.
+      const double peak = std::abs(op_.p) * op_.a;
+      maxSlope_ = 33.0 * (std::abs(op_.p) * std::sqrt(op_.q) * kAgnesiMaxSlope + peak * kTaperSlopeFactor / L);
+      break;
+    }
+    case OpKind::Region: {
+      for (const auto& pt : op_.points) support_.extend(pt.x, pt.y);
+      support_ = support_.grown(reach);
+      maxSlope_ = std::abs(op_.height) / L * (kAgnesiMaxSlope + kTaperSlopeFactor);
+      break;
+    }
+    default: {
+      const Box3 b = op_.tool.bounds();
+      support_ = b.xy().grown(reach);
+      maxSlope_ = 0.0;  // set operations are not offsets
+      break;
+    }
+  }
+}
+
+template <class T>
+T PreparedOp::offset(const P3<T>& p, Deformation model) const {
+  const Operation& o = op_;
+  const double L = o.characteristicLength();
+  switch (o.kind) {
+    case OpKind::Trace: {
+      const T t2 = polylineDistance2(p.x, p.y, o.points, false);
+      return o.sign() * tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
+    }
+    case OpKind::Punch: {
+      T r2 = sqr(p.x - o.at.x) + sqr(p.y - o.at.y);
+      // The paper's |P'| is the distance in space; the sheet measures it along the sheet.
+      if (model == Deformation::Offset) r2 = r2 + sqr(p.z - o.at.z);
+      return o.sign() * tapered(r2, L, [&](const T& d2) { return kernels::punch(d2, o.a, o.p, o.q); });
+    }
+    case OpKind::Press: {
+      T sum(0.0);
+      const double lim2 = sqr(kSupportSpan * L);
+      for (const Vec3& c : pressPoints_) {
+        T r2 = sqr(p.x - c.x) + sqr(p.y - c.y);
+        if (model == Deformation::Offset) r2 = r2 + sqr(p.z - c.z);
+        double lo;
+        if constexpr (std::is_same_v<T, Interval>) lo = r2.lo; else lo = valueOf(r2);
+        if (lo >= lim2) continue;
+        sum += tapered(r2, L, [&](const T& d2) { return kernels::punch(d2, o.a, o.p, o.q); });
+      }
+      return o.sign() * sum;
+    }
+    case OpKind::Region: {
+      const T t2 = polylineDistance2(p.x, p.y, o.points, true);
+      auto descent = [&](const T& d2) { return o.height * kernels::agnesi(d2, o.falloff) * (1.0 / o.falloff); };
+      if constexpr (std::is_same_v<T, Interval>) {
+        const Interval outside = tapered(t2, L, descent);
+        if (t2.lo > 0.0) {
+          // The box does not touch the contour: it lies wholly inside or wholly outside.
+          const bool in = insideContour(p.x.mid(), p.y.mid(), o.points);
+          return o.sign() * (in ? Interval(o.height) : outside);
+        }
+        return o.sign() * Interval(std::min(outside.lo, o.height), std::max(outside.hi, o.height));
+      } else {
+        if (insideContour(valueOf(p.x), valueOf(p.y), o.points)) return T(o.sign() * o.height);
+        return o.sign() * tapered(t2, L, descent);
+      }
+    }
+    default:
+      return T(0.0);
+  }
+}
+
+template <class T>
+T PreparedOp::combine(const T& f, const P3<T>& p) const {
+  const Operation& o = op_;
+  const ToolShape& tool = o.tool;
+  const T g = tool.value(p);
+  T result;
+  switch (o.kind) {
+    case OpKind::BlendUnion: result = kernels::blendUnion(f, g, o.a1, o.a2, o.a3); break;
+    case OpKind::BlendSubtract: result = kernels::blendSubtract(f, g, o.a1, o.a2, o.a3); break;
+    case OpKind::Subtract: result = kernels::subtract(f, g); break;
+    default: return f;
+  }
+  // Distance from the tool's surface (0 inside), in units of L: exact within 3 L, tapered to the
+  // untouched f at 4 L.
+  const double L = tool.size();
+  T dist2(0.0);
+  switch (tool.type) {
+    case ToolShape::Type::Sphere: {
+      const T d = sqrt(sqr(p.x - tool.center.x) + sqr(p.y - tool.center.y) + sqr(p.z - tool.center.z)) - tool.r;
+      dist2 = sqr(max(d, T(0.0)));
+      break;
+    }
+    case ToolShape::Type::Cylinder: {
+      const T d = sqrt(segmentDistance2In3D(p, tool.center, tool.end)) - tool.r;
+      dist2 = sqr(max(d, T(0.0)));
+      break;
+    }
+    case ToolShape::Type::Flat: {
+      const T dx = max(abs(p.x - tool.center.x) - tool.half.x, T(0.0));
+      const T dy = max(abs(p.y - tool.center.y) - tool.half.y, T(0.0));
+      const T dz = max(abs(p.z - tool.center.z) - tool.half.z, T(0.0));
+      dist2 = sqr(dx) + sqr(dy) + sqr(dz);
+      break;
+    }
+  }
+  const T w = tapered(dist2, L, [](const T&) { return T(1.0); });
+  if constexpr (std::is_same_v<T, Interval>) {
+    if (w.lo >= 1.0) return result;
+    if (w.hi <= 0.0) return f;
+  } else {
+    const double wv = valueOf(w);
+    if (wv >= 1.0) return result;
+    if (wv <= 0.0) return f;
+  }
+  return f + w * (result - f);
+}
+
+template double ToolShape::value(const P3<double>&) const;
+template Grad ToolShape::value(const P3<Grad>&) const;
+template Interval ToolShape::value(const P3<Interval>&) const;
+template double PreparedOp::offset(const P3<double>&, Deformation) const;
+template Grad PreparedOp::offset(const P3<Grad>&, Deformation) const;
+template Interval PreparedOp::offset(const P3<Interval>&, Deformation) const;
+template double PreparedOp::combine(const double&, const P3<double>&) const;
+template Grad PreparedOp::combine(const Grad&, const P3<Grad>&) const;
+template Interval PreparedOp::combine(const Interval&, const P3<Interval>&) const;
+
+}  // namespace emboss

@@ -1,0 +1,110 @@
+// Operations: the paper's tool applications, each one kernel, one support and one set of parameters.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "frep/box.h"
+#include "frep/scalar.h"
+
+namespace emboss {
+
+// How offsets change the workpiece. Offset: the paper's literal algebra f_new = f +- f_offset (an
+// offset made on one face shows mirrored on the other). Sheet: the sheet bends as a whole; the
+// summed offsets D(x, y) move both faces along z, f_new(P) = f(x, y, z - D(x, y)).
+enum class Deformation { Sheet, Offset };
+
+// Which face the tool works from. Back raises the metal toward the viewer (+z), front lowers it.
+enum class Side { Front, Back };
+
+enum class OpKind { Trace, Punch, Press, Region, BlendUnion, Subtract, BlendSubtract };
+
+struct Vec2 {
+  double x = 0, y = 0;
+};
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+};
+
+// The shape of a punch for the set-theoretic operations (4): f_tool >= 0 inside the tool.
+struct ToolShape {
+  enum class Type { Sphere, Cylinder, Flat };
+  Type type = Type::Sphere;
+  Vec3 center;         // sphere centre; cylinder: one end of its axis; flat: centre of the face box
+  Vec3 end;            // cylinder only: the other end of its axis (hemispherical ends)
+  double r = 1.0;      // sphere and cylinder radius
+  Vec3 half{1, 1, 1};  // flat only: half sizes of the rectangular face box
+
+  // f_tool: sphere r^2 - |P - c|^2 (the paper's); cylinder r^2 - dist(P, axis segment)^2;
+  // flat min(hx - |x - cx|, hy - |y - cy|, hz - |z - cz|).
+  template <class T>
+  T value(const P3<T>& p) const;
+  // A box outside which f_tool < 0.
+  Box3 bounds() const;
+  // The tool's characteristic length L: its radius, or the smallest half size of a flat face.
+  double size() const;
+};
+
+// One operation. Only the fields of its kind are meaningful; they are exactly the parameters its
+// equation uses (tools and metals have already been folded in when a stroke became an operation).
+struct Operation {
+  OpKind kind = OpKind::Punch;
+  Side side = Side::Back;
+  // trace: a; punch and press: a, p, q.
+  double a = 1.0, p = 1.0, q = 1.0;
+  std::vector<Vec2> points;  // trace and press: the path; region: the closed contour
+  Vec3 at;                   // punch: P1
+  double height = 0.5;       // region: the uniform offset inside
+  double falloff = 2.0;      // region: the characteristic length of the descent outside (mm)
+  ToolShape tool;            // blend_union, subtract, blend_subtract
+  double a1 = 0.0, a2 = 1.0, a3 = 1.0;
+
+  bool isOffset() const { return kind == OpKind::Trace || kind == OpKind::Punch || kind == OpKind::Press || kind == OpKind::Region; }
+  // +1 where the operation raises toward the viewer (from behind), -1 where it lowers.
+  double sign() const { return side == Side::Back ? 1.0 : -1.0; }
+  // The characteristic length L: a for tracers, a / sqrt(q) for punches, falloff for regions, the
+  // tool's size for set operations. Exact within 3 L of the tool, zero beyond 4 L.
+  double characteristicLength() const;
+};
+
+// An operation made ready for evaluation: its parameters checked, its support computed, derived
+// data (press points, segment frames) cached. Immutable afterwards; thread-safe to evaluate.
+class PreparedOp {
+ public:
+  explicit PreparedOp(Operation op);
+  const Operation& op() const { return op_; }
+  // The support in the plate's plane: outside this rectangle the operation changes nothing,
+  // exactly (for every z). Culling by it is exact.
+  const Box2& support() const { return support_; }
+  // The signed offset (positive toward the viewer) at p. Offset kinds only.
+  template <class T>
+  T offset(const P3<T>& p, Deformation model) const;
+  // The set operation applied to f at p. Set kinds only.
+  template <class T>
+  T combine(const T& f, const P3<T>& p) const;
+  // Press only: where the program placed the punches along the path.
+  const std::vector<Vec3>& pressPoints() const { return pressPoints_; }
+  // An upper bound of |grad offset| in the plane (mm/mm), for Lipschitz bounds.
+  double maxSlope() const { return maxSlope_; }
+
+ private:
+  Operation op_;
+  Box2 support_;
+  std::vector<Vec3> pressPoints_;
+  double maxSlope_ = 0.0;
+};
+
+// Checks an operation's parameters; an empty string when it is valid, else what is wrong.
+std::string validate(const Operation& op);
+const char* opKindName(OpKind k);
+
+extern template double PreparedOp::offset(const P3<double>&, Deformation) const;
+extern template Grad PreparedOp::offset(const P3<Grad>&, Deformation) const;
+extern template Interval PreparedOp::offset(const P3<Interval>&, Deformation) const;
+extern template double PreparedOp::combine(const double&, const P3<double>&) const;
+extern template Grad PreparedOp::combine(const Grad&, const P3<Grad>&) const;
+extern template Interval PreparedOp::combine(const Interval&, const P3<Interval>&) const;
+
+}  // namespace emboss

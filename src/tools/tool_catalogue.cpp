@@ -1,0 +1,181 @@
+// Tools to operations: the paper's rule that tool size and metal set the equations' parameters.
+#include "tools/tool_catalogue.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace emboss {
+
+const std::vector<ToolSpec>& toolCatalogue() {
+  static const std::vector<ToolSpec> kTools = {
+      {"Fine tracer", ToolKind::Tracer, 0.8, Side::Front},
+      {"Tracer", ToolKind::Tracer, 1.4, Side::Front},
+      {"Wide tracer", ToolKind::Tracer, 2.2, Side::Front},
+      {"Small punch", ToolKind::Punch, 3.0, Side::Back},
+      {"Punch", ToolKind::Punch, 6.0, Side::Back},
+      {"Large punch", ToolKind::Punch, 10.0, Side::Back},
+      {"Oval punch", ToolKind::OvalPunch, 5.0, Side::Back},
+      {"Flat punch", ToolKind::FlatPunch, 6.0, Side::Front},
+      {"Hammer", ToolKind::Hammer, 2.0, Side::Front},
+      {"Region raiser", ToolKind::RegionRaiser, 3.0, Side::Back},
+      {"Blending punch", ToolKind::BlendPunch, 4.0, Side::Back},
+  };
+  return kTools;
+}
+
+double penetrationDepth(const ToolSpec& tool, const Metal& metal, double pressure) {
+  pressure = std::clamp(pressure, 0.0, 1.0);
+  // Linear in pressure from a light touch (15 %) to full depth; softer metals yield further.
+  const double full = tool.kind == ToolKind::Hammer ? 0.12 * tool.size : 0.22 * tool.size;
+  return metal.ductility * full * (0.15 + 0.85 * pressure);
+}
+
+Operation traceOp(const ToolSpec& tool, const Metal& metal, const std::vector<Vec2>& path, double pressure) {
+  Operation op;
+  op.kind = OpKind::Trace;
+  op.side = tool.side;
+  // (2)'s profile peaks at a on the line and is a wide at half height: a is the depth, bounded by
+  // the tracer's half width so that a harder press widens the line a little, as a real tracer does.
+  op.a = std::min(0.5 * tool.size, std::max(0.05, penetrationDepth(tool, metal, pressure) * 1.6));
+  op.points = path;
+  return op;
+}
+
+Operation punchOp(const ToolSpec& tool, const Metal& metal, const Vec3& at, double pressure) {
+  Operation op;
+  op.kind = OpKind::Punch;
+  op.side = tool.side;
+  op.a = 0.5 * tool.size;  // radius of the punch
+  op.q = tool.kind == ToolKind::Hammer ? 2.0 : 1.0;
+  // (3)'s peak is p a: p is the depth over the radius.
+  op.p = penetrationDepth(tool, metal, pressure) / op.a;
+  op.at = at;
+  return op;
+}
+
+namespace {
+
+double averagePressure(const std::vector<StrokePoint>& s) {
+  double sum = 0;
+  for (const auto& p : s) sum += p.pressure;
+  return s.empty() ? 0.0 : sum / s.size();
+}
+
+// Points at least `spacing` apart along the stroke (first and last kept).
+std::vector<StrokePoint> resample(const std::vector<StrokePoint>& s, double spacing) {
+  std::vector<StrokePoint> out;
+  if (s.empty()) return out;
+  out.push_back(s.front());
+  for (size_t i = 1; i < s.size(); ++i)
+    if (std::hypot(s[i].x - out.back().x, s[i].y - out.back().y) >= spacing) out.push_back(s[i]);
+  if (s.size() > 1 && (out.back().x != s.back().x || out.back().y != s.back().y) &&
+      std::hypot(s.back().x - out.back().x, s.back().y - out.back().y) > 0.25 * spacing)
+    out.push_back(s.back());
+  return out;
+}
+
+}  // namespace
+
+std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& metal, const std::vector<StrokePoint>& stroke) {
+  std::vector<Operation> ops;
+  if (stroke.empty()) return ops;
+  switch (tool.kind) {
+    case ToolKind::Tracer: {
+      // Simplify to points ~0.5 mm apart, then one trace operation per kTraceSegment of path, each
+      // with the pressure of its own stretch; consecutive pieces share their joint point.
+      const auto pts = resample(stroke, 0.5);
+      if (pts.size() == 1) {
+        ops.push_back(traceOp(tool, metal, {{pts[0].x, pts[0].y}}, pts[0].pressure));
+        break;
+      }
+      std::vector<Vec2> piece{{pts[0].x, pts[0].y}};
+      double len = 0, pressure = 0;
+      int n = 0;
+      for (size_t i = 1; i < pts.size(); ++i) {
+        piece.push_back({pts[i].x, pts[i].y});
+        len += std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
+        pressure += pts[i].pressure, ++n;
+        if (len >= kTraceSegment || i + 1 == pts.size()) {
+          ops.push_back(traceOp(tool, metal, piece, pressure / n));
+          piece = {piece.back()};
+          len = 0, pressure = 0, n = 0;
+        }
+      }
+      break;
+    }
+    case ToolKind::Punch:
+    case ToolKind::Hammer: {
+      const double spacing = tool.kind == ToolKind::Hammer ? 0.9 * tool.size : 0.6 * tool.size;
+      for (const auto& p : resample(stroke, spacing)) ops.push_back(punchOp(tool, metal, {p.x, p.y, p.z}, p.pressure));
+      break;
+    }
+    case ToolKind::OvalPunch: {
+      // Each strike is (3) pressed along a short path the length of the oval, along the stroke.
+      const auto pts = resample(stroke, 0.8 * tool.size);
+      for (size_t i = 0; i < pts.size(); ++i) {
+        const auto& a = pts[i];
+        const auto& b = pts[std::min(i + 1, pts.size() - 1)];
+        double dx = b.x - a.x, dy = b.y - a.y;
+        const double len = std::hypot(dx, dy);
+        if (len < 1e-9) dx = 1, dy = 0; else dx /= len, dy /= len;
+        Operation op;
+        op.kind = OpKind::Press;
+        op.side = tool.side;
+        op.a = 0.25 * tool.size;
+        op.q = 1.0;
+        // A press sums about 2 pi punches per characteristic length: p is scaled down to match depth.
+        op.p = penetrationDepth(tool, metal, a.pressure) / op.a / (2.0 * M_PI);
+        const double h = 0.3 * tool.size;
+        op.points = {{a.x - dx * h, a.y - dy * h}, {a.x + dx * h, a.y + dy * h}};
+        ops.push_back(op);
+      }
+      break;
+    }
+    case ToolKind::FlatPunch: {
+      for (const auto& p : resample(stroke, 0.8 * tool.size)) {
+        Operation op;
+        op.kind = OpKind::BlendSubtract;
+        op.tool.type = ToolShape::Type::Flat;
+        const double depth = penetrationDepth(tool, metal, p.pressure) * 0.5;
+        op.tool.half = {0.5 * tool.size, 0.35 * tool.size, 1.0};
+        op.tool.center = {p.x, p.y, p.z + 1.0 - depth};
+        // a1, a2, a3 grow linearly with the tool; a harder metal gathers more (a1).
+        op.a1 = 0.05 * tool.size * metal.hardness;
+        op.a2 = 0.2 * tool.size;
+        op.a3 = 0.2 * tool.size;
+        ops.push_back(op);
+      }
+      break;
+    }
+    case ToolKind::RegionRaiser: {
+      const auto pts = resample(stroke, 0.5);
+      if (pts.size() < 3) break;
+      Operation op;
+      op.kind = OpKind::Region;
+      op.side = tool.side;
+      for (const auto& p : pts) op.points.push_back({p.x, p.y});
+      op.height = penetrationDepth(tool, metal, averagePressure(stroke)) * 1.5;
+      op.falloff = tool.size;
+      ops.push_back(op);
+      break;
+    }
+    case ToolKind::BlendPunch: {
+      for (const auto& p : resample(stroke, 0.7 * tool.size)) {
+        Operation op;
+        op.kind = OpKind::BlendUnion;
+        op.tool.type = ToolShape::Type::Sphere;
+        op.tool.r = 0.5 * tool.size;
+        // The ball sits on the surface, sunk by the depth of the press.
+        op.tool.center = {p.x, p.y, p.z - op.tool.r + penetrationDepth(tool, metal, p.pressure)};
+        op.a1 = 0.15 * tool.size * metal.hardness;
+        op.a2 = 0.25 * tool.size;
+        op.a3 = 0.5 * tool.size;
+        ops.push_back(op);
+      }
+      break;
+    }
+  }
+  return ops;
+}
+
+}  // namespace emboss

@@ -1,0 +1,55 @@
+// The tool catalogue and how a stroke of a tool, on a metal, under a pressure, becomes operations.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "frep/operation.h"
+#include "tools/metal.h"
+
+namespace emboss {
+
+enum class ToolKind {
+  Tracer,        // traced contour (2): a groove from the front or a raised line from behind
+  Punch,         // round punch (3), from behind (raise) or the front (chasing)
+  OvalPunch,     // an elongated punch: (3) pressed along a short path
+  FlatPunch,     // a flat rectangular face: subtraction with blending (planishing)
+  Hammer,        // small front strikes for background texture
+  RegionRaiser,  // raises a whole outlined region from behind
+  BlendPunch,    // adds material with a blended union (4)
+};
+
+struct ToolSpec {
+  std::string name;  // shown on the overlay
+  ToolKind kind;
+  double size;       // mm: tracer width, punch diameter, hammer face, region falloff
+  Side side;
+};
+
+// The catalogue: tracers of three widths, round punches of several sizes, an oval and a flat
+// punch, a hammer, a region raiser and a blending punch.
+const std::vector<ToolSpec>& toolCatalogue();
+
+// One pen sample mapped onto the sheet: x, y in mm on the workpiece, z of the surface there.
+struct StrokePoint {
+  double x = 0, y = 0, z = 0;
+  double pressure = 0;  // 0..1
+};
+
+// Depth of the tool's penetration: linear in pressure (the paper), scaled by the metal's ductility
+// ("tip feel") and the tool's size. mm.
+double penetrationDepth(const ToolSpec& tool, const Metal& metal, double pressure);
+
+// The operations a whole stroke makes. Tracers: the path, simplified, split into segments of at
+// most kTraceSegment mm (one trace operation each); punches and hammers: strikes spaced along the
+// path; region raiser: the stroke is the closed contour; blending punch: blended spheres along
+// the path. The parameters are exactly those the equations use.
+std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& metal, const std::vector<StrokePoint>& stroke);
+
+// Single strikes, used by the stroke builder and the attract pieces.
+Operation traceOp(const ToolSpec& tool, const Metal& metal, const std::vector<Vec2>& path, double pressure);
+Operation punchOp(const ToolSpec& tool, const Metal& metal, const Vec3& at, double pressure);
+
+inline constexpr double kTraceSegment = 4.0;  // mm
+
+}  // namespace emboss

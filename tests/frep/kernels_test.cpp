@@ -1,0 +1,242 @@
+// The paper's equations against values worked out by hand.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "frep/kernels.h"
+#include "frep/model.h"
+#include "frep/workpieces.h"
+#include "scene/scene.h"
+
+namespace emboss {
+namespace {
+
+constexpr double kTol = 1e-12;
+
+Model plateModel(Deformation d, double w = 20, double h = 20, double t = 0.5) {
+  return Model(std::make_shared<Plate>(w, h, t), d);
+}
+
+double at(const Model& m, double x, double y, double z) { return m.evaluate(P3<double>{x, y, z}); }
+
+TEST(Equations, PlateIsEquation1) {
+  Model m = plateModel(Deformation::Sheet, 10, 8, 0.5);
+  // min(x + w, w - x, y + h, h - y, z + d, d - z) at (1, 2, 0.2) = min(11, 9, 10, 6, 0.7, 0.3).
+  EXPECT_NEAR(at(m, 1, 2, 0.2), 0.3, kTol);
+  EXPECT_NEAR(at(m, 9.5, 2, 0), 0.5, kTol);   // w - x = 0.5 is the least
+  EXPECT_NEAR(at(m, 0, 0, 0.7), -0.2, kTol);  // outside, above the front face
+}
+
+TEST(Equations, TraceFromTheFrontIsEquation2) {
+  for (Deformation def : {Deformation::Offset, Deformation::Sheet}) {
+    Model m = plateModel(def);
+    Operation op;
+    op.kind = OpKind::Trace;
+    op.side = Side::Front;
+    op.a = 1.0;
+    op.points = {{0, 0}, {10, 0}};
+    ASSERT_TRUE(m.add(op));
+    // Across the segment: t = 0.5, a^3 / (t^2 + a^2) = 1 / 1.25 = 0.8; plate value 0.3 at z = 0.2.
+    EXPECT_NEAR(at(m, 5, 0.5, 0.2), 0.3 - 0.8, kTol) << deformationName(def);
+    // Beyond the end point the same profile applies radially: distance 2 -> 1 / 5.
+    EXPECT_NEAR(at(m, 12, 0, 0.2), 0.3 - 0.2, kTol);
+  }
+}
+
+TEST(Equations, OffsetModelMirrorsTheBackFaceSheetModelDoesNot) {
+  Operation op;
+  op.kind = OpKind::Trace;
+  op.side = Side::Front;
+  op.a = 1.0;
+  op.points = {{0, 0}, {10, 0}};
+  Model offset = plateModel(Deformation::Offset), sheet = plateModel(Deformation::Sheet);
+  ASSERT_TRUE(offset.add(op));
+  ASSERT_TRUE(sheet.add(op));
+  // On the line the offset is a = 1. Offset model: f = plate - 1; at z = -0.3 the plate gives 0.2,
+  // so f = -0.8: the back face moved inward too (the paper's mirror effect, the sheet thinned).
+  EXPECT_NEAR(at(offset, 5, 0, -0.3), 0.2 - 1.0, kTol);
+  // Sheet model: both faces move down by 1: the front face is at z = -0.5, the back at z = -1.5.
+  EXPECT_NEAR(at(sheet, 5, 0, -0.5), 0.0, kTol);
+  EXPECT_NEAR(at(sheet, 5, 0, -1.5), 0.0, kTol);
+  EXPECT_NEAR(at(sheet, 5, 0, -1.0), 0.5, kTol);  // mid-sheet: thickness kept, 2d = 1
+}
+
+TEST(Equations, TraceFromBehindRaises) {
+  Model m = plateModel(Deformation::Offset);
+  Operation op;
+  op.kind = OpKind::Trace;
+  op.side = Side::Back;
+  op.a = 1.0;
+  op.points = {{0, 0}, {10, 0}};
+  ASSERT_TRUE(m.add(op));
+  EXPECT_NEAR(at(m, 5, 0.5, 0.2), 0.3 + 0.8, kTol);
+}
+
+TEST(Equations, PunchIsEquation3) {
+  Operation op;
+  op.kind = OpKind::Punch;
+  op.side = Side::Back;
+  op.a = 2.0, op.p = 0.5, op.q = 1.5;
+  op.at = {0, 0, 0.5};
+  {
+    // The paper's |P'| is a distance in space: at (1, 1, 1.5), |P'|^2 = 3, f_offset = 0.5 * 8 / (1.5 * 3 + 4).
+    Model m = plateModel(Deformation::Offset);
+    ASSERT_TRUE(m.add(op));
+    EXPECT_NEAR(at(m, 1, 1, 1.5), std::min(1.5 + 0.5, 0.5 - 1.5) + 4.0 / 8.5, kTol);
+  }
+  {
+    // The sheet measures it along the sheet: r^2 = 2, D = 4 / 7 moves both faces up.
+    Model m = plateModel(Deformation::Sheet);
+    ASSERT_TRUE(m.add(op));
+    EXPECT_NEAR(at(m, 1, 1, 0.5 + 4.0 / 7.0), 0.0, kTol);
+    EXPECT_NEAR(at(m, 1, 1, 4.0 / 7.0), 0.5, kTol);
+  }
+  // Lowering from the front: the same offset subtracted.
+  op.side = Side::Front;
+  Model m = plateModel(Deformation::Offset);
+  ASSERT_TRUE(m.add(op));
+  EXPECT_NEAR(at(m, 1, 1, 1.5), std::min(1.5 + 0.5, 0.5 - 1.5) - 4.0 / 8.5, kTol);
+}
+
+TEST(Equations, SupportIsExactWithinThreeLengthsThenTapersToZero) {
+  Model m = plateModel(Deformation::Offset);
+  Operation op;
+  op.kind = OpKind::Trace;
+  op.side = Side::Back;
+  op.a = 1.0;
+  op.points = {{0, 0}, {10, 0}};
+  ASSERT_TRUE(m.add(op));
+  const double base = 0.3;  // plate at z = 0.2
+  EXPECT_NEAR(at(m, 5, 2.999, 0.2), base + 1.0 / (2.999 * 2.999 + 1.0), kTol);
+  // At 3.5 a the smootherstep taper is one half: 1 / (3.5^2 + 1) * 0.5.
+  EXPECT_NEAR(at(m, 5, 3.5, 0.2), base + 0.03773584905660377, kTol);
+  EXPECT_EQ(at(m, 5, 4.0, 0.2), base);
+  EXPECT_EQ(at(m, 5, 7.0, 0.2), base);
+  // The support rectangle is the segment grown by 4 a.
+  const Box2 s = m.operations()[0].support();
+  EXPECT_DOUBLE_EQ(s.x0, -4.0);
+  EXPECT_DOUBLE_EQ(s.x1, 14.0);
+  EXPECT_DOUBLE_EQ(s.y1, 4.0);
+}
+
+TEST(Equations, PunchCharacteristicLengthIsAOverSqrtQ) {
+  Operation op;
+  op.kind = OpKind::Punch;
+  op.a = 2.0, op.p = 1.0, op.q = 4.0;
+  op.at = {3, 4, 0};
+  EXPECT_DOUBLE_EQ(op.characteristicLength(), 1.0);
+  PreparedOp prep(op);
+  EXPECT_DOUBLE_EQ(prep.support().x0, -1.0);  // 3 - 4 * 1
+  EXPECT_DOUBLE_EQ(prep.support().y1, 8.0);
+  EXPECT_EQ(prep.offset(P3<double>{3 + 4.0, 4, 0}, Deformation::Sheet), 0.0);
+  EXPECT_GT(prep.offset(P3<double>{3 + 3.9, 4, 0}, Deformation::Sheet), 0.0);
+}
+
+TEST(Equations, BlendingUnionAndSubtractionAreEquation4) {
+  // f + g + sqrt(f^2 + g^2) + a1 / (1 + (f/a2)^2 + (g/a3)^2) at f = 0.3, g = 0.75, a = (1, 1, 1).
+  EXPECT_NEAR(kernels::blendUnion(0.3, 0.75, 1.0, 1.0, 1.0), 2.462918442704064, kTol);
+  // f - g - sqrt(f^2 + g^2) + a1 / (1 + (f/a2)^2 + (g/a3)^2) at a3 = 2.
+  EXPECT_NEAR(kernels::blendSubtract(0.3, 0.75, 1.0, 1.0, 2.0), -0.4451794950671283, kTol);
+  EXPECT_EQ(kernels::subtract(0.3, 0.75), -0.75);
+  EXPECT_EQ(kernels::subtract(0.3, -0.75), 0.3);
+}
+
+TEST(Equations, BlendUnionOperationNearTheToolIsExact) {
+  Model m = plateModel(Deformation::Offset);
+  Operation op;
+  op.kind = OpKind::BlendUnion;
+  op.tool.type = ToolShape::Type::Sphere;
+  op.tool.center = {0, 0, 0.5};
+  op.tool.r = 1.0;
+  op.a1 = 0.5, op.a2 = 1.0, op.a3 = 1.0;
+  ASSERT_TRUE(m.add(op));
+  const double x = 0.5, y = 0, z = 0.8;
+  const double f = 0.5 - z;                                  // the plate's front face term
+  const double g = 1.0 - (x * x + y * y + (z - 0.5) * (z - 0.5));  // r^2 - |P - c|^2
+  EXPECT_NEAR(at(m, x, y, z), kernels::blendUnion(f, g, 0.5, 1.0, 1.0), kTol);
+  // Far from the tool (beyond 4 r from its surface) the plate is untouched.
+  EXPECT_EQ(at(m, 10, 0, 0.2), 0.3);
+}
+
+TEST(Equations, SubtractCutsThePlate) {
+  Model m = plateModel(Deformation::Sheet);
+  Operation op;
+  op.kind = OpKind::Subtract;
+  op.tool.type = ToolShape::Type::Cylinder;
+  op.tool.center = {0, 0, -2};
+  op.tool.end = {0, 0, 2};
+  op.tool.r = 1.0;
+  ASSERT_TRUE(m.add(op));
+  EXPECT_LT(at(m, 0, 0, 0), 0.0);    // a hole through the sheet
+  EXPECT_NEAR(at(m, 0.5, 0, 0), -(1.0 - 0.25), kTol);
+  EXPECT_NEAR(at(m, 1.2, 0, 0), std::min(0.5, -(1.0 - 1.44)), kTol);
+}
+
+TEST(Equations, FlatToolIsARectangularFace) {
+  ToolShape t;
+  t.type = ToolShape::Type::Flat;
+  t.center = {1, 2, 3};
+  t.half = {2, 1, 0.5};
+  EXPECT_NEAR(t.value(P3<double>{1, 2, 3}), 0.5, kTol);
+  EXPECT_NEAR(t.value(P3<double>{2.5, 2, 3}), 0.5, kTol);  // min(0.5, 1, 0.5)
+  EXPECT_NEAR(t.value(P3<double>{4, 2, 3}), -1.0, kTol);
+}
+
+TEST(Equations, RegionRaisesInsideAndDescendsOutside) {
+  Model m = plateModel(Deformation::Offset);
+  Operation op;
+  op.kind = OpKind::Region;
+  op.side = Side::Back;
+  op.points = {{-5, -5}, {5, -5}, {5, 5}, {-5, 5}};
+  op.height = 0.8;
+  op.falloff = 2.0;
+  ASSERT_TRUE(m.add(op));
+  EXPECT_NEAR(at(m, 0, 0, 0.2), 0.3 + 0.8, kTol);  // uniform inside
+  EXPECT_NEAR(at(m, 4.9, 4.9, 0.2), 0.3 + 0.8, kTol);
+  // Outside, by distance t to the contour: height * L^2 / (t^2 + L^2); t = 1 -> 0.8 * 4 / 5.
+  EXPECT_NEAR(at(m, 6, 0, 0.2), 0.3 + 0.64, kTol);
+  EXPECT_EQ(at(m, 14, 0, 0.2), 0.3);  // beyond 4 L
+}
+
+TEST(Equations, RegionUsesOddParityForConcaveContours) {
+  // A "U": the notch between the arms is outside.
+  Model m = plateModel(Deformation::Offset);
+  Operation op;
+  op.kind = OpKind::Region;
+  op.points = {{-6, -6}, {6, -6}, {6, 6}, {2, 6}, {2, -2}, {-2, -2}, {-2, 6}, {-6, 6}};
+  op.height = 1.0;
+  op.falloff = 0.5;
+  ASSERT_TRUE(m.add(op));
+  EXPECT_NEAR(at(m, -4, 4, 0.2), 1.3, kTol);
+  EXPECT_NEAR(at(m, 0, 4, 0.2), 0.3, kTol);  // 2 from every edge: beyond 4 L = 2
+}
+
+TEST(Equations, PressPlacesPunchesAlongThePath) {
+  Operation op;
+  op.kind = OpKind::Press;
+  op.a = 1.0, op.p = 0.2, op.q = 1.0;
+  op.points = {{0, 0}, {20, 0}};
+  PreparedOp prep(op);
+  // Every L / 4 = 0.25 mm, end points included.
+  ASSERT_EQ(prep.pressPoints().size(), 81u);
+  EXPECT_DOUBLE_EQ(prep.pressPoints().back().x, 20.0);
+  // Smooth: along the middle of the path the ridge height varies by less than 5e-5 of itself.
+  // (from x = 8 to 12 every point within reach, 4 L, lies on the path).
+  const double h0 = prep.offset(P3<double>{10.0, 0, 0}, Deformation::Sheet);
+  for (double x = 8.0; x <= 12.0; x += 0.05)
+    EXPECT_NEAR(prep.offset(P3<double>{x, 0, 0}, Deformation::Sheet), h0, 5e-5 * h0);
+}
+
+TEST(Equations, InvalidParametersAreRefused) {
+  Model m = plateModel(Deformation::Sheet);
+  Operation op;
+  op.kind = OpKind::Punch;
+  op.a = -1;
+  const Status s = m.add(op);
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.error().find("a: must be a positive number"), std::string::npos) << s.error();
+  EXPECT_EQ(m.activeCount(), 0u);
+}
+
+}  // namespace
+}  // namespace emboss
