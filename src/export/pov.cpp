@@ -275,8 +275,9 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
     const double n = std::sqrt(dx * dx + dy * dy + dz * dz);
     const double px = dx / n * R, py = dy / n * R, pz = -dz / n * R;
     const double s = R * std::tan(size);
+    // Shadowless, as in the renderer's shading (no cast shadows: a stroke's change stays local).
     out << "light_source { <" << num(px) << ", " << num(py) << ", " << num(pz) << "> rgb " << rgb << " * " << num(power * 0.35)
-        << " area_light <" << num(s) << ", 0, 0>, <0, " << num(s) << ", 0>, 3, 3 adaptive 1 jitter }\n";
+        << " shadowless }\n";
     out << "sphere { <" << num(px) << ", " << num(py) << ", " << num(pz) << ">, " << num(s) << " pigment { rgb " << rgb
         << " } finish { emission " << num(power) << " diffuse 0 } no_shadow no_image }\n";
   };
@@ -284,6 +285,8 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
   panel(0.65, 0.45, 0.60, 0.25, 3.0, "<0.9, 0.95, 1>");
   panel(0.0, 0.9, 0.45, 0.12, 6.0, "<1, 1, 1>");
   out << "sky_sphere { pigment { gradient y color_map { [0 rgb <0.03, 0.028, 0.026>] [1 rgb <0.16, 0.15, 0.14>] } scale 2 translate -y } }\n";
+  // The dark backdrop behind the piece, as the renderer draws it; never seen in the metal.
+  out << "plane { z, " << num(R) << " pigment { rgb <0.018, 0.020, 0.026> } finish { emission 1 diffuse 0 } no_reflection no_shadow }\n";
   out << "object { Emboss_Object }\n";
   out << "#end\n";
   return out.str();

@@ -27,8 +27,9 @@ inline Grad operator*(Grad a, Grad b) {
 // The chain rule for a scalar function with value fv and derivative d at a.v.
 inline Grad chain(Grad a, double fv, double d) { return {fv, d * a.dx, d * a.dy, d * a.dz}; }
 inline Grad operator/(Grad a, Grad b) {
+  // The value is a plain quotient so that it equals the double evaluation to the last bit.
   const double inv = 1.0 / b.v;
-  const double q = a.v * inv;
+  const double q = a.v / b.v;
   return {q, (a.dx - q * b.dx) * inv, (a.dy - q * b.dy) * inv, (a.dz - q * b.dz) * inv};
 }
 inline Grad& operator+=(Grad& a, Grad b) { return a = a + b; }

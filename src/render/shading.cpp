@@ -13,12 +13,15 @@ namespace {
 // above, a warm floor bounce and a dark room: the mix that makes chased metal read.
 glm::dvec3 environment(const glm::dvec3& d) {
   glm::dvec3 c = glm::mix(glm::dvec3(0.030, 0.028, 0.026), glm::dvec3(0.16, 0.15, 0.14), std::clamp(0.5 + 0.5 * d.y, 0.0, 1.0));
-  auto box = [&](const glm::dvec3& center, double size, double power) {
+  auto box = [&](const glm::dvec3& center, double size, double power, double soft = 0.03) {
     const double k = glm::dot(d, glm::normalize(center));
     const double edge = std::cos(size);
-    if (k <= edge - 0.03) return 0.0;
-    return power * std::clamp((k - (edge - 0.03)) / 0.03, 0.0, 1.0);
+    if (k <= edge - soft) return 0.0;
+    return power * std::clamp((k - (edge - soft)) / soft, 0.0, 1.0);
   };
+  // A large, soft overhead panel in front of the bench: what a flat sheet mirrors from where a
+  // visitor stands, so the untouched metal reads bright with a falloff rather than dull.
+  c += glm::dvec3(1.0, 0.96, 0.90) * box({-0.08, 0.45, 0.89}, 0.30, 1.3, 0.12);
   c += glm::dvec3(1.0, 0.97, 0.92) * box({-0.55, 0.65, 0.55}, 0.33, 5.0);
   c += glm::dvec3(0.90, 0.95, 1.00) * box({0.65, 0.45, 0.60}, 0.25, 3.0);
   c += glm::dvec3(1.0, 1.0, 1.0) * box({0.0, 0.9, 0.45}, 0.12, 6.0);

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The emboss command: help on every subcommand, exit codes 0/1/2, eval and render from a scene.
+set -u
+bin="$1"; src="$2"
+emboss="$bin/emboss"
+tmp="$(mktemp -d)"; trap 'rm -rf "$tmp"' EXIT
+fail=0
+check() {  # check NAME EXPECTED_RC COMMAND...
+  local name="$1" want="$2"; shift 2
+  "$@" >"$tmp/out" 2>"$tmp/err"; local rc=$?
+  if [ "$rc" -ne "$want" ]; then echo "FAIL $name: exit $rc, wanted $want"; cat "$tmp/out" "$tmp/err"; fail=1; else echo "ok   $name"; fi
+}
+cat >"$tmp/s.json" <<'JSON'
+{"format":"emboss-scene","version":1,"workpiece":{"type":"plate","w":10,"h":8,"d":0.5},
+ "operations":[{"op":"punch","side":"back","a":2,"p":0.5,"q":1,"at":[0,0,0.5]}]}
+JSON
+for sub in "" eval render export bench; do check "help $sub" 0 "$emboss" $sub --help; done
+check "no subcommand" 2 "$emboss"
+check "unknown option" 2 "$emboss" render "$tmp/s.json" -o "$tmp/x.png" --bogus
+check "bad size" 2 "$emboss" render "$tmp/s.json" -o "$tmp/x.png" --size 12
+check "missing scene" 1 "$emboss" eval "$tmp/none.json" 0 0 0
+grep -q "cannot open the scene file" "$tmp/err" || { echo "FAIL missing scene message"; fail=1; }
+echo '{"version":1,,}' >"$tmp/bad.json"
+check "malformed scene" 1 "$emboss" render "$tmp/bad.json" -o "$tmp/x.png"
+grep -q "bad.json:1:14: not valid JSON" "$tmp/err" || { echo "FAIL malformed message: $(cat "$tmp/err")"; fail=1; }
+# f at the punch's peak: the sheet rises by p a = 1 mm, so the front face is at z = 1.5.
+check "eval point" 0 "$emboss" eval "$tmp/s.json" 0 0 1.5
+[ "$(cat "$tmp/out")" = "0" ] || { echo "FAIL eval value $(cat "$tmp/out")"; fail=1; }
+printf '0 0 1.5\n# a comment\n0 0 1.0\n20 0 0\n' >"$tmp/pts"
+check "eval points" 0 "$emboss" eval "$tmp/s.json" --points "$tmp/pts"
+[ "$(wc -l <"$tmp/out")" -eq 3 ] || { echo "FAIL eval points count"; fail=1; }
+[ "$(sed -n 2p "$tmp/out")" = "0.5" ] || { echo "FAIL eval mid-sheet $(sed -n 2p "$tmp/out")"; fail=1; }
+check "render" 0 "$emboss" render "$tmp/s.json" -o "$tmp/x.png" --size 64x40 --stats
+grep -q "mean steps per ray" "$tmp/out" || { echo "FAIL --stats output"; fail=1; }
+[ -s "$tmp/x.png" ] || { echo "FAIL no png"; fail=1; }
+check "render unwritable" 1 "$emboss" render "$tmp/s.json" -o "$tmp/no/such/dir/x.png" --size 32x20
+check "export pov" 0 "$emboss" export "$tmp/s.json" --format pov -o "$tmp/x.pov"
+grep -q "#declare Emboss_Function = function(x, y, z)" "$tmp/x.pov" || { echo "FAIL pov declares"; fail=1; }
+grep -q "#ifndef (Emboss_Declare_Only)" "$tmp/x.pov" || { echo "FAIL pov declare-only guard"; fail=1; }
+check "export bad format" 2 "$emboss" export "$tmp/s.json" --format obj -o "$tmp/x.obj"
+exit $fail

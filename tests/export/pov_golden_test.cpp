@@ -1,0 +1,153 @@
+// POV-Ray itself evaluates the exported function and renders the exported scene; both must agree with ours.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "export/pov.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+#include "test_support.h"
+
+namespace emboss {
+namespace {
+
+bool havePovray() { return std::system("command -v povray >/dev/null 2>&1") == 0; }
+
+const char* kAllOps = R"({"format":"emboss-scene","version":1,"deformation":"%DEF%",
+  "workpiece":%WP%,
+  "operations":[
+   {"op":"trace","side":"front","a":0.6,"points":[[-12,-8],[-4,4],[8,6],[12,-4]]},
+   {"op":"punch","side":"back","a":3,"p":0.5,"q":1.2,"at":[0,0,0.5]},
+   {"op":"punch","side":"front","a":1.5,"p":0.4,"q":1,"at":[6,-5,0.5]},
+   {"op":"press","side":"back","a":0.8,"p":0.1,"q":1,"points":[[-12,9],[10,10]]},
+   {"op":"region","side":"back","contour":[[-14,-12],[-6,-12],[-6,-6],[-10,-3],[-14,-6]],"height":0.8,"falloff":1.2},
+   {"op":"blend_union","tool":{"type":"sphere","center":[10,2,0.5],"r":2},"a1":0.8,"a2":1,"a3":2},
+   {"op":"trace","side":"back","a":0.5,"points":[[-2,-10],[4,-9]]},
+   {"op":"blend_subtract","tool":{"type":"flat","center":[-8,6,0.9],"size":[4,3,1]},"a1":0.1,"a2":1,"a3":1},
+   {"op":"subtract","tool":{"type":"cylinder","center":[3,8,-2],"end":[3,8,2],"r":0.8}},
+   {"op":"punch","side":"back","a":2,"p":0.3,"q":1,"at":[9,2,0.5]}]})";
+
+std::string sceneText(const std::string& def, const std::string& wp) {
+  std::string s = kAllOps;
+  s.replace(s.find("%DEF%"), 5, def);
+  s.replace(s.find("%WP%"), 4, wp);
+  return s;
+}
+
+// Runs POV-Ray on `pov` in `dir`; returns false (and the log) on failure.
+bool runPovray(const std::filesystem::path& dir, const std::string& args, std::string& log) {
+  const std::string cmd = "cd '" + dir.string() + "' && povray " + args + " -D -V >povray.log 2>&1";
+  const int rc = std::system(cmd.c_str());
+  log = test::readText(dir / "povray.log");
+  return rc == 0;
+}
+
+struct Case {
+  const char* name;
+  const char* deformation;
+  const char* workpiece;
+};
+
+class PovGolden : public ::testing::TestWithParam<Case> {};
+
+TEST_P(PovGolden, PovrayEvaluatesTheSameFunction) {
+  if (!havePovray()) GTEST_SKIP() << "povray is not installed (platform/debian/packages.txt installs it)";
+  const Case c = GetParam();
+  const auto dir = test::scratchDir(std::string("pov-eval-") + c.name);
+  auto scene = parseScene(sceneText(c.deformation, c.workpiece), "golden.json", dir);
+  ASSERT_TRUE(scene) << scene.error();
+  auto model = scene->makeModel();
+  ASSERT_TRUE(model) << model.error();
+  auto pov = exportPov(*scene, *model, {});
+  ASSERT_TRUE(pov) << pov.error();
+  std::ofstream(dir / "scene.pov") << *pov;
+
+  // Points near the surface and around every operation, where the kernels differ from each other.
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> px(-16, 16), py(-14, 14), pz(-2, 3);
+  std::vector<P3<double>> pts;
+  for (int i = 0; i < 300; ++i) pts.push_back({px(rng), py(rng), pz(rng)});
+  std::ofstream probe(dir / "probe.pov");
+  probe << "#declare Emboss_Declare_Only = 1;\n#include \"scene.pov\"\n#fopen Out \"values.txt\" write\n";
+  for (const auto& p : pts)
+    probe << "#write (Out, str(Emboss_Function(" << p.x << ", " << p.y << ", " << p.z << "), 0, 16), \"\\n\")\n";
+  probe << "#fclose Out\ncamera { location <0, 0, -10> look_at <0, 0, 0> }\n";
+  probe.close();
+  std::string log;
+  ASSERT_TRUE(runPovray(dir, "+Iprobe.pov +W2 +H2 -GA +O/dev/null", log)) << log;
+  std::ifstream values(dir / "values.txt");
+  double maxDiff = 0;
+  size_t n = 0;
+  for (const auto& p : pts) {
+    double v;
+    ASSERT_TRUE(values >> v) << "POV-Ray wrote " << n << " values; log:\n" << log;
+    // The points were written with the stream's default 6 significant digits: evaluate there.
+    std::ostringstream sx, sy, sz;
+    sx << p.x, sy << p.y, sz << p.z;
+    const double ours = model->evaluate(P3<double>{std::stod(sx.str()), std::stod(sy.str()), std::stod(sz.str())});
+    maxDiff = std::max(maxDiff, std::abs(v - ours));
+    EXPECT_NEAR(v, ours, 1e-9) << "at " << p.x << " " << p.y << " " << p.z;
+    ++n;
+  }
+  RecordProperty("max_abs_difference", std::to_string(maxDiff));
+}
+
+TEST_P(PovGolden, PovrayRendersTheSamePicture) {
+  if (!havePovray()) GTEST_SKIP() << "povray is not installed";
+  const Case c = GetParam();
+  if (std::string(c.name) != "plate_sheet") GTEST_SKIP() << "one picture is enough (POV-Ray isosurfaces are slow)";
+  const auto dir = test::scratchDir(std::string("pov-render-") + c.name);
+  auto scene = parseScene(sceneText(c.deformation, c.workpiece), "golden.json", dir);
+  ASSERT_TRUE(scene);
+  auto model = scene->makeModel();
+  ASSERT_TRUE(model);
+  const int w = 72, h = 45;
+  PovExportOptions opt;
+  opt.width = w, opt.height = h;
+  auto pov = exportPov(*scene, *model, opt);
+  ASSERT_TRUE(pov);
+  std::ofstream(dir / "scene.pov") << *pov;
+  std::string log;
+  ASSERT_TRUE(runPovray(dir, "+Iscene.pov +W72 +H45 +FN +Opov.png", log)) << log;
+  auto theirs = readPng(dir / "pov.png");
+  ASSERT_TRUE(theirs) << theirs.error();
+
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.sync(*model);
+  r.setCamera(Camera(scene->camera, w, h));
+  ShadingParams sh;
+  sh.metal = *metalByName("copper");
+  sh.tinge = *tingeByName("none");
+  r.setShading(sh);
+  Image ours;
+  r.renderFull(ours);
+  ASSERT_TRUE(writePng(ours, dir / "ours.png"));
+  // The same silhouette: pixels that show metal rather than the dark backdrop.
+  auto isMetal = [](const Image& im, int x, int y) {
+    const std::uint8_t* p = im.pixel(x, y);
+    return p[0] + p[1] + p[2] > 3 * 24;
+  };
+  int both = 0, either = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool a = isMetal(ours, x, y), b = isMetal(*theirs, x, y);
+      both += a && b, either += a || b;
+    }
+  ASSERT_GT(either, 0);
+  const double iou = static_cast<double>(both) / either;
+  EXPECT_GT(iou, 0.95) << "silhouettes differ; see " << dir;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, PovGolden,
+                         ::testing::Values(Case{"plate_sheet", "sheet", R"({"type":"plate","w":16,"h":14,"d":0.5})"},
+                                           Case{"plate_offset", "offset", R"({"type":"plate","w":16,"h":14,"d":0.5})"},
+                                           Case{"disc_sheet", "sheet", R"({"type":"disc","r":15,"d":0.4})"},
+                                           Case{"bowl_offset", "offset", R"({"type":"bowl","r":15,"depth":3,"d":0.5})"}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace emboss
