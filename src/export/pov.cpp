@@ -6,10 +6,7 @@
 #include <sstream>
 
 #include "frep/kernels.h"
-#if __has_include("frep/vm_model.h")
 #include "frep/vm_model.h"
-#define EMBOSS_HAVE_VM 1
-#endif
 #include "frep/workpieces.h"
 #include "tools/metal.h"
 
@@ -177,15 +174,18 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
 
   // The workpiece.
   std::string wpBody;
-#ifdef EMBOSS_HAVE_VM_POV
   if (const auto* vm = dynamic_cast<const VmWorkpiece*>(&model.workpiece())) {
-    auto body = vm->povFunction("Emboss_Vm");
-    if (!body) return fail(body.error());
+    PovOptions vmOptions;
+    vmOptions.prefix = "EmbossVm";
+    auto body = vm->program().povFunction(vmOptions);
+    if (!body) return fail("POV-Ray export of '" + vm->file() + "': " + body.error());
     out << body->declarations;
-    wpBody = body->expression;
-  } else
-#endif
-  {
+    out << "#declare Emboss_VmModel = function(x, y, z) { " << body->expression << " }\n";
+    // The same scaling and sign as VmWorkpiece: f = -vm(P / s) * s, a 2D outline made a plate.
+    const double inv = 1.0 / vm->scale();
+    const std::string value = "-Emboss_VmModel(x * " + num(inv) + ", y * " + num(inv) + ", z * " + num(inv) + ") * " + num(vm->scale());
+    wpBody = vm->isPlate() ? "min(" + value + ", " + num(vm->halfThickness()) + " - abs(z))" : value;
+  } else {
     auto body = workpieceFunction(model.workpiece());
     if (!body) return fail(body.error());
     wpBody = *body;

@@ -8,10 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#if __has_include("frep/vm_model.h")
 #include "frep/vm_model.h"
-#define EMBOSS_HAVE_VM 1
-#endif
 #include "frep/workpieces.h"
 #include "tools/metal.h"
 
@@ -191,13 +188,9 @@ std::shared_ptr<const Workpiece> workpiece(const json& v, const std::filesystem:
     const double d = positive(v, "d", w, 0.5);
     std::filesystem::path p(file);
     if (p.is_relative()) p = baseDir / p;
-#ifdef EMBOSS_HAVE_VM
     auto loaded = VmWorkpiece::open(p, file, scale, d);
     if (!loaded) bad(w + ".file", loaded.error());
     return *loaded;
-#else
-    bad(w, "vm models are not supported yet");
-#endif
   }
   bad(w + ".type", "unknown workpiece \"" + type + "\" (plate, disc, bowl or vm)");
 }
