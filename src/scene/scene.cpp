@@ -301,6 +301,11 @@ Result<Scene> parseScene(const std::string& textIn, const std::string& name, con
     const auto pos = what.find("syntax error");
     return fail(name + ":" + lineColumn(textIn, e.byte == 0 ? 0 : e.byte - 1) + ": not valid JSON: " +
                 (pos == std::string::npos ? what : what.substr(pos)));
+  } catch (const json::exception& e) {
+    // A number too large for a double, for instance (found by fuzzing).
+    std::string what = e.what();
+    const auto pos = what.find("] ");
+    return fail(name + ": not valid JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
   }
   try {
     if (!doc.is_object()) bad("(top level)", "must be a JSON object");

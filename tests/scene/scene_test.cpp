@@ -71,6 +71,7 @@ TEST(SceneFile, MalformedFilesGetOneClearMessage) {
             "piece.json: operations[0].contour: a closed contour needs at least 3 points");
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"punch","a":1}]})"), "piece.json: operations[0].at: missing ([x, y, z] is required)");
   EXPECT_EQ(errorOf(R"({"camera":{"eye":[0,0,0],"target":[0,0,0]}})"), "piece.json: camera.eye: must differ from the target");
+  EXPECT_EQ(errorOf(R"({"version":1e999})"), "piece.json: not valid JSON: number overflow parsing '1e999'");
   EXPECT_EQ(errorOf("[1,2]"), "piece.json: (top level): must be a JSON object");
   EXPECT_EQ(errorOf(""), "piece.json:1:1: not valid JSON: syntax error while parsing value - unexpected end of input; expected '[', '{', or a literal");
 }
