@@ -21,7 +21,7 @@ glm::dvec3 environment(const glm::dvec3& d) {
   };
   // A large, soft overhead panel in front of the bench: what a flat sheet mirrors from where a
   // visitor stands, so the untouched metal reads bright with a falloff rather than dull.
-  c += glm::dvec3(1.0, 0.96, 0.90) * box({-0.08, 0.45, 0.89}, 0.30, 1.3, 0.12);
+  c += glm::dvec3(1.0, 0.96, 0.90) * box({-0.08, 0.45, 0.89}, 0.30, 0.85, 0.12);
   c += glm::dvec3(1.0, 0.97, 0.92) * box({-0.55, 0.65, 0.55}, 0.33, 5.0);
   c += glm::dvec3(0.90, 0.95, 1.00) * box({0.65, 0.45, 0.60}, 0.25, 3.0);
   c += glm::dvec3(1.0, 1.0, 1.0) * box({0.0, 0.9, 0.45}, 0.12, 6.0);
