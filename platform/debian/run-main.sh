@@ -15,6 +15,6 @@ if [ -x build/firmware-app/emboss-kiosk ]; then
   build/firmware-app/emboss-kiosk --display=auto --attract --run-for=8 --snapshot=out/kiosk.png "$@"
   echo "snapshot of the kiosk: $top/out/kiosk.png"
 else
-  build/firmware-app/emboss render firmware-app/pieces/sample.json -o out/sample.png --size 1280x800
+  build/firmware-app/emboss render docs/examples/medallion.json -o out/sample.png --size 1280x800
   echo "rendered: $top/out/sample.png"
 fi

@@ -57,7 +57,8 @@ void OpGrid::remove(std::uint32_t index, const Box2& support) {
 }
 
 size_t OpGrid::sync(const Model& model) {
-  if (workpiece_ != &model.workpiece() || cells_.empty()) build(model);
+  if (workpiece_ != &model.workpiece() || model_ != &model || cells_.empty()) build(model);
+  model_ = &model;
   const auto& ops = model.operations();
   const auto& ids = model.operationIds();
   // The first index where the model differs from what is indexed.

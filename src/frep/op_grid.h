@@ -48,6 +48,7 @@ class OpGrid {
   std::vector<Box2> supports_;         // their supports, to remove them again
   size_t activeCount_ = 0;
   const Workpiece* workpiece_ = nullptr;
+  const Model* model_ = nullptr;  // ids are unique within one model only
 };
 
 }  // namespace emboss

@@ -377,7 +377,12 @@ std::string formatNumber(double v) {
 }  // namespace
 
 std::string_view vmOpName(VmOp op) { return infoOf(op).name; }
-int vmOpArity(VmOp op) { return infoOf(op).arity; }
+int vmOpArity(VmOp op) {
+  // The enum lists leaves, then unary, then binary operations (called per node while compiling).
+  if (op >= VmOp::kAdd) return 2;
+  if (op >= VmOp::kNeg) return 1;
+  return 0;
+}
 
 // ---- parsing and compiling
 
@@ -395,7 +400,7 @@ Result<VmProgram> VmProgram::parse(std::string_view text, std::string_view sourc
   std::unordered_map<std::string_view, Defined> ids;
   {
     const std::size_t lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
-    const std::size_t guess = std::min(lines, kMaxClauses);
+    const std::size_t guess = std::min<std::size_t>(lines, 1u << 22);  // a hint only
     all.reserve(guess);
     ids.reserve(guess);
   }
@@ -822,6 +827,7 @@ Result<PovFunction> povInline(const std::vector<PovNode>& nodes, const PovOption
   }
   PovFunction out;
   out.expression = std::move(text[root]);
+  out.callDepth = 1;  // the function the expression goes into
   return out;
 }
 
@@ -1061,6 +1067,7 @@ class PovLetWriter {
           addFree(call.free, p);
         }
       }
+      call.s += ')';
       body = std::move(call);
     }
     for (const std::uint32_t b : here) {

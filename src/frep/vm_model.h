@@ -21,7 +21,8 @@ namespace emboss {
 
 // The operations of the format. Semantics follow Fidget's point evaluator (NaN in min/max
 // propagates, `mod` is the Euclidean remainder, `compare` gives -1/0/1, `and`/`or`/`not` treat
-// 0 as false). `pow` (a^b) is an extension from libfive's format.
+// 0 as false). `pow` (a^b) is an extension from libfive's format, `log` is read as `ln`.
+// Order: leaves, then unary, then binary operations (vmOpArity relies on it).
 enum class VmOp : std::uint8_t {
   kConst,
   kVarX,

@@ -1,14 +1,17 @@
-// The ray tracer: exact root finding on the model's function, tiles on the fixed thread pool.
+// The ray tracer: the model's function traced on the fixed thread pool, whole frames or dirty rectangles.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "frep/model.h"
 #include "frep/op_grid.h"
 #include "render/camera.h"
+#include "render/height_field.h"
 #include "render/image.h"
 #include "render/shading.h"
 #include "render/thread_pool.h"
@@ -18,54 +21,117 @@ namespace emboss {
 struct RenderStats {
   std::uint64_t rays = 0;
   std::uint64_t hits = 0;
-  std::uint64_t steps = 0;        // root-finder steps (interval tests and sign tests) over all rays
+  std::uint64_t steps = 0;        // root-finder steps (jumps, cells, interval tests, subdivisions) over all rays
   std::uint64_t evaluations = 0;  // function evaluations (point, gradient and interval)
-  std::uint64_t opsVisited = 0;   // operations visited over all evaluations
+  std::uint64_t opsVisited = 0;   // operation kernels evaluated over all evaluations
+  std::uint64_t fieldEvaluations = 0;  // evaluations whose displacement came from the cached field
+  double traceSeconds = 0.0;      // time spent finding surfaces (wall clock per tile, summed over tiles)
+  double shadeSeconds = 0.0;      // time spent shading and converting to sRGB (likewise)
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
+  double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
   RenderStats& operator+=(const RenderStats& o) {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
+    fieldEvaluations += o.fieldEvaluations, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
     return *this;
   }
 };
 
 struct RenderOptions {
-  bool naive = false;  // no index: every active operation at every point (for comparison)
+  bool naive = false;  // no index and no field: every active operation at every point (for comparison)
   int tileSize = 32;
+  bool exact = false;  // sheet model: trace the exact function through the index instead of the field
 };
 
-// Root finding (docs/rendering.md): the ray is cut into steps of fixed length h aligned to a grid
-// along the ray that depends on nothing but the camera, so a pixel's result never depends on the
-// model's bounds, the tile or the thread. Spans of 8 steps and then single steps are skipped when
-// the interval bound of f over their box excludes zero (no Lipschitz constant is assumed: the
-// offsets and blends are not distance fields). In a step whose bound contains zero, a sign change
-// of f between its ends is bisected to the surface; without one, the step is split up to three
-// times more so thin features are not missed. Normals come from the exact gradient (forward-mode
-// differentiation of the same kernels).
+// Two tracers share one contract (docs/rendering.md): a pixel's colour depends on nothing but the
+// model, the camera and the pixel -- not on the tile, the thread, earlier frames or the model's
+// overall bounds -- so a dirty update gives exactly the bytes of a full render.
+//
+// The field tracer (sheet model; the default): f(P) = W(x, y, z - D(x, y)) with D from the
+// HeightField cache, the set operations applied exactly on top (their shifts cached the same
+// way). The points of a ray are t = q h / 64 for integers q, fixed by the camera and the
+// workpiece; the hit is the first of them with f >= 0, refined inside [q - 1, q]. Bounds only
+// prove stretches empty, never decide: a Lipschitz walk (plate, disc, bowl, and 2D vm outlines
+// through their column map) with D's slopes from the field's pyramid, interval bounds where set
+// operations act or the workpiece has no known bound.
+//
+// The exact tracer (offset model, --naive, RenderOptions::exact): the model's own function
+// through the operation grid (or every operation), interval-bounded spans of 8 steps and
+// thin-feature splits, as the definition demands; slower, independent of any cache.
 class Renderer {
  public:
   explicit Renderer(ThreadPool& pool) : pool_(pool) {}
 
-  // Brings the spatial index up to date with the model (call after edits, never during a render).
+  // Brings the index and the field up to date with the model (call after edits, never during a
+  // render). Appends cost the new operation's support; undo recomputes the samples under it.
   void sync(const Model& model);
-  void setCamera(const Camera& camera) { camera_ = camera; }
+  void setCamera(const Camera& camera);
   void setShading(const ShadingParams& shading) { shading_ = shading; }
   void setOptions(const RenderOptions& options) { options_ = options; }
 
-  // Traces every pixel of `rect` into `image` (sized to the camera). Returns false if cancelled.
+  // Traces every pixel of `rect` into `image` (sized to the camera). Returns false if cancelled
+  // (the pixels of `rect` are then partly old); a frame superseded by a newer one is cancelled by
+  // setting `cancel` from any thread.
   bool render(Image& image, const Rect& rect, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
   bool renderFull(Image& image, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
 
-  // The pixels whose rays can see a change made by operation `index` of the model (appended or
-  // undone): the projection of its support, from the lowest to the highest the surface can reach,
-  // grown by the root finder's span so that no ray outside it examines a different function.
+  // The pixels whose rays can see a change made by operation `index` of the model (just appended,
+  // or just undone): the projection of the 3D box where f can change sign or where a hit's
+  // neighbourhood can change, grown by one ray cell. Call after sync().
   Rect dirtyRect(const Model& model, size_t index) const;
 
   const OpGrid& grid() const { return grid_; }
+  const HeightField& field() const { return field_; }
   double stepLength() const { return step_; }
+  // Whether render() uses the field tracer with the current options.
+  bool usesField() const { return fieldReady_ && !options_.naive && !options_.exact; }
+  // D(x, y) as the field tracer sees it (the field inside its domain, the exact sum outside).
+  double displacementAt(double x, double y) const;
+  // What the last sync() did (for benchmarks and tests).
+  struct SyncInfo {
+    bool rebuilt = false;      // the whole field was (re)built
+    long samplesUpdated = 0;   // field samples added to or recomputed
+  };
+  const SyncInfo& lastSync() const { return lastSync_; }
 
  private:
-  std::optional<glm::dvec3> traceColor(int px, int py, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  struct Hit {
+    glm::dvec3 p, n, dir;
+  };
+  struct SetOp {
+    std::uint32_t index;
+    Box2 support;
+    double zlo, zhi;  // where the operation can change f, the later offsets' shift included
+    std::uint64_t id = 0;
+    // The offsets after it, summed over its support: the shift that moves its tool with the
+    // sheet, kept like D (same lattice spacing, same update rules, bit-exact).
+    std::shared_ptr<HeightField> shift;
+  };
+  // What a sync changed in the field, for the set operations' shift fields.
+  struct FieldChange {
+    bool append;          // operation `index` appended (else: `region` recomputed)
+    std::uint32_t index;
+    Box2 region;
+  };
+  struct RayContext;
+
+  void syncField(const Model& model);
+  void rebuildField(const Model& model);
+  void recomputeField(const Model& model, const HeightField::SampleRect& r);
+  void syncSetOps(const Model& model);
+  double peakOf(const Operation& o) const;
+
+  std::optional<Hit> traceExact(int px, int py, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  std::optional<Hit> traceField(int px, int py, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  template <class T>
+  T exactDisplacement(const P3<T>& p, std::span<const std::uint32_t> candidates, RenderStats& st) const;
+  double fieldValue(const RayContext& rc, const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                    double* lipschitzValue = nullptr) const;
+  double sheetValue(const glm::dvec3& p) const;
+  bool fieldExcluded(const RayContext& rc, const glm::dvec3& a, const glm::dvec3& b, RenderStats& st,
+                     std::vector<std::uint32_t>& scratch) const;
+  glm::dvec3 fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  Rect projectBox(const Box3& b) const;
 
   ThreadPool& pool_;
   const Model* model_ = nullptr;
@@ -74,8 +140,37 @@ class Renderer {
   ShadingParams shading_{};
   RenderOptions options_{};
   double step_ = 0.25;
-  Box3 bounds_{};
+  Box3 bounds_{};                   // exact tracer: the model's bounds
   std::vector<std::uint32_t> all_;  // 0..active-1, for the naive mode
+  std::vector<std::uint8_t> backdrop_;  // the camera's backdrop, 3 bytes a pixel (it never changes)
+
+  // The field tracer's state.
+  HeightField field_;
+  bool fieldReady_ = false;
+  const Workpiece* fieldWorkpiece_ = nullptr;
+  std::vector<std::uint64_t> fieldIds_;  // ids of the operations summed into the field, by index
+  std::vector<Box2> fieldSupports_;      // their supports
+  int workpieceKind_ = 0;  // 1 plate, 2 disc, 3 bowl (known Lipschitz bounds), 4 outline sheet (2D vm), 0 other
+  // Outline sheets, W = min(O(x, y), d - |z|), over blocks of 2 x 2 field cells: bounds of
+  // min(O, d) per column. Where the slab d - |z'| <= lo, W is the slab bit for bit; where hi < 0,
+  // W < 0 at every z.
+  struct ColumnMap {
+    double x0 = 0, y0 = 0, size = 1, inv = 1;
+    int nx = 0, ny = 0;
+    std::vector<float> lo, hi;
+    double halfThickness = 0;
+    struct Column {
+      float lo, hi;
+    };
+    Column at(double x, double y) const;
+    Column block(int i, int j) const;
+  };
+  void buildColumns();
+  ColumnMap columns_;
+  std::vector<SetOp> setOps_;            // active set operations, ascending index
+  Box3 fieldClip_{};                     // a box holding every surface of the field tracer's function
+  SyncInfo lastSync_{};
+  std::vector<FieldChange> fieldChanges_;  // during sync()
 };
 
 }  // namespace emboss

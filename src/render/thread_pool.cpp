@@ -6,7 +6,7 @@
 namespace emboss {
 
 ThreadPool::ThreadPool(int threads) {
-  if (threads <= 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (int i = 0; i < threads - 1; ++i) workers_.emplace_back([this] { workerLoop(); });
 }
 
@@ -25,6 +25,7 @@ void ThreadPool::runTiles() {
     const size_t i = next_.fetch_add(1, std::memory_order_relaxed);
     if (i >= tiles_.size()) return;
     (*func_)(tiles_[i]);
+    completed_.fetch_add(1, std::memory_order_relaxed);
   }
 }
 
@@ -33,7 +34,9 @@ void ThreadPool::workerLoop() {
   for (;;) {
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      // A worker that wakes late, after the job was closed, waits for the next one: it must not
+      // read the tiles, the function or the cancel flag of a job that has returned.
+      wake_.wait(lock, [&] { return stop_ || (jobOpen_ && generation_ != seen); });
       if (stop_) return;
       seen = generation_;
       ++busy_;
@@ -51,29 +54,33 @@ bool ThreadPool::parallelFor2D(const Rect& extent, int tileSize, const std::func
                                const std::atomic_bool* cancel) {
   if (extent.empty()) return true;
   std::lock_guard run(runMutex_);
+  if (cancel && cancel->load()) return false;
   tileSize = std::max(1, tileSize);
   {
-    // No worker may still be reading the previous job's tiles while they are replaced.
-    std::unique_lock lock(mutex_);
-    done_.wait(lock, [&] { return busy_ == 0; });
+    std::lock_guard lock(mutex_);
     tiles_.clear();
     for (int y = extent.y; y < extent.y + extent.h; y += tileSize)
       for (int x = extent.x; x < extent.x + extent.w; x += tileSize)
         tiles_.push_back({x, y, std::min(tileSize, extent.x + extent.w - x), std::min(tileSize, extent.y + extent.h - y)});
     next_.store(0);
+    completed_.store(0);
     func_ = &func;
     cancel_ = cancel;
+    jobOpen_ = true;
     ++generation_;
   }
-  wake_.notify_all();
+  if (tiles_.size() > 1) wake_.notify_all();
   runTiles();
   {
-    // Wait until every worker that picked up this generation has left runTiles().
+    // Close the job (no worker may join it any more), then wait for those inside it.
     std::unique_lock lock(mutex_);
+    jobOpen_ = false;
     done_.wait(lock, [&] { return busy_ == 0; });
     func_ = nullptr;
+    cancel_ = nullptr;
   }
-  return !(cancel && cancel->load());
+  ++jobsRun_;
+  return completed_.load() == tiles_.size();
 }
 
 }  // namespace emboss

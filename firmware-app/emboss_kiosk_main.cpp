@@ -1,0 +1,340 @@
+// emboss-kiosk: the exhibit's program -- wires the configuration, the platform back ends and the
+// kiosk (src/app) together and runs its main loop.
+#include <CLI/CLI.hpp>
+
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app/attract_library.h"
+#include "app/kiosk_app.h"
+#include "app/kiosk_config.h"
+#include "app/memory_display.h"
+#include "app/pointer_input.h"
+#include "buttons_gpio.h"
+#include "devices/button_config.h"
+#include "display_factory.h"
+#include "display_kms.h"
+#include "display_x11.h"
+#include "pen_probe.h"
+#include "pen_replay.h"
+#include "pieces/pieces.h"
+#include "system_notify.h"
+
+namespace fs = std::filesystem;
+using namespace emboss;
+
+namespace {
+
+volatile sig_atomic_t gStop = 0;
+void onSignal(int) { gStop = 1; }
+
+void logLine(const std::string& line) { std::fprintf(stderr, "emboss-kiosk: %s\n", line.c_str()); }
+
+fs::path defaultSessionsDir() {
+  if (const char* s = std::getenv("STATE_DIRECTORY"); s && *s) {
+    std::string first(s);
+    if (const auto colon = first.find(':'); colon != std::string::npos) first.resize(colon);
+    return fs::path(first) / "sessions";
+  }
+  if (const char* s = std::getenv("XDG_STATE_HOME"); s && *s) return fs::path(s) / "emboss-kiosk" / "sessions";
+  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".local" / "state" / "emboss-kiosk" / "sessions";
+  return fs::temp_directory_path() / "emboss-kiosk-sessions";
+}
+
+int writePieces(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  for (const auto& p : generateAttractPieces()) {
+    Status s = saveScene(p.scene, nullptr, dir / p.file);
+    if (!s) {
+      logLine(s.error());
+      return 1;
+    }
+    std::printf("wrote %s (%zu operations)\n", (dir / p.file).c_str(), p.scene.operations.size());
+  }
+  return 0;
+}
+
+PointerEvent toPointer(const X11Event& e) {
+  PointerEvent p;
+  p.x = e.x, p.y = e.y;
+  switch (e.type) {
+    case X11Event::Type::kMove: p.type = PointerEvent::Type::Move; break;
+    case X11Event::Type::kPenDown: p.type = PointerEvent::Type::Down; break;
+    case X11Event::Type::kPenUp: p.type = PointerEvent::Type::Up; break;
+    case X11Event::Type::kKey: p.type = PointerEvent::Type::Key, p.key = e.key; break;
+    case X11Event::Type::kClose: p.type = PointerEvent::Type::Leave; break;
+  }
+  return p;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"emboss-kiosk: the virtual embossing exhibit (attract mode, the visitor's bench, staff mode)"};
+  std::string display, tablet, buttons, configPath, size, snapshot, sessionOut, sessionsDir, piecesDir, exportDir, writePiecesDir;
+  bool attractOnly = false, staff = false, fast = false, stats = false;
+  double runFor = 0;
+  int threads = -1;
+  cli.add_option("--display", display, "auto | kms | x11 | headless | osmesa (default: the config's, else auto)")
+      ->check(CLI::IsMember({"auto", "kms", "x11", "headless", "osmesa"}));
+  cli.add_option("--tablet", tablet, "auto (find a tablet) | evemu:PATH (replay a recording) | none");
+  cli.add_option("--buttons", buttons, "auto (GPIO, built-in wiring) | PATH of a buttons.json | none");
+  cli.add_flag("--attract", attractOnly, "Attract mode only: play the pieces, ignore pen and buttons");
+  cli.add_flag("--staff", staff, "Start in staff mode");
+  cli.add_option("--run-for", runFor, "Stop after SECONDS")->check(CLI::NonNegativeNumber);
+  cli.add_option("--snapshot", snapshot, "Write the last frame (overlay included) to OUT.png at exit");
+  cli.add_option("--session-out", sessionOut, "Write the visitor's session as a scene file at exit");
+  cli.add_flag("--fast", fast, "Feed the --tablet=evemu: recording as fast as possible, then exit 0");
+  cli.add_option("--config", configPath, "A key = value configuration file (see firmware-app/kiosk.conf)");
+  cli.add_option("--size", size, "Picture size WxH for headless, osmesa and x11 (default 1280x800)");
+  cli.add_flag("--stats", stats, "Print frames per second and stroke-to-screen latency at exit");
+  cli.add_option("--sessions-dir", sessionsDir, "Where visitors' sessions are saved");
+  cli.add_option("--pieces", piecesDir, "The folder of attract pieces (*.json)");
+  cli.add_option("--export-dir", exportDir, "Where staff export sessions to (a USB stick's mount point)");
+  cli.add_option("--threads", threads, "Render threads (0: one per core)")->check(CLI::Range(0, 256));
+  std::string attractStart;
+  cli.add_option("--attract-start", attractStart, "INDEX:FRACTION: the first attract piece and how far along it starts")
+      ->group("");
+  cli.add_option("--write-pieces", writePiecesDir, "Write the built-in attract pieces as scene files into DIR, then exit")
+      ->group("");
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cli.exit(e) == 0 ? 0 : 2;
+  }
+  if (!writePiecesDir.empty()) return writePieces(writePiecesDir);
+
+  try {
+    // ---- configuration: the file, then the command line
+    KioskConfig config;
+    std::vector<std::string> warnings;
+    if (!configPath.empty()) config = loadKioskConfig(configPath, config, warnings);
+    for (const auto& w : warnings) logLine("config: " + w);
+    if (!display.empty()) config.display = display;
+    if (!tablet.empty()) config.tablet = tablet;
+    if (!buttons.empty()) config.buttons = buttons;
+    if (!size.empty() && !parseSizeWxH(size, config.width, config.height)) {
+      logLine("--size must be WxH, e.g. 1280x800 (16..16384 each), not '" + size + "'");
+      return 2;
+    }
+    if (!sessionsDir.empty()) config.sessionsDir = sessionsDir;
+    if (config.sessionsDir.empty()) config.sessionsDir = defaultSessionsDir();
+    if (!piecesDir.empty()) config.piecesDir = piecesDir;
+    if (!exportDir.empty()) config.exportDir = exportDir;
+    if (threads >= 0) config.threads = threads;
+    const bool replay = config.tablet.rfind("evemu:", 0) == 0;
+    if (fast && !replay) {
+      logLine("--fast feeds a recording: give --tablet=evemu:PATH as well");
+      return 2;
+    }
+
+    struct sigaction sa {};
+    sa.sa_handler = onSignal;
+    sigaction(SIGTERM, &sa, nullptr);
+    sigaction(SIGINT, &sa, nullptr);
+    signal(SIGPIPE, SIG_IGN);
+    auto notifier = createSystemNotifier();
+
+    // ---- the display: the one asked for, else the memory fallback (auto only)
+    std::string tries;
+    Result<std::unique_ptr<Display>> made = fail("display: not tried");
+    bool gpu = false;
+    std::error_code ec;
+    for (fs::directory_iterator it("/dev/dri", ec), end; !ec && it != end; it.increment(ec))
+      gpu |= it->path().filename().string().rfind("card", 0) == 0;
+    if (config.display == "kms" && gpu) {
+      // On the board the screen may come up after the kiosk (or be unplugged): wait a while,
+      // saying why. Without any GPU driver there is nothing to wait for.
+      std::string last;
+      made = waitForKmsDisplay(std::chrono::seconds(60), {}, [&](const std::string& error) {
+        if (error != last) logLine(error + "; waiting for a screen"), last = error;
+        notifier->status("waiting for a screen: " + error);
+        notifier->alive(monotonicSeconds());
+        return gStop == 0;
+      });
+    } else {
+      made = createDisplay(config.display, config.width, config.height, &tries);
+    }
+    std::unique_ptr<Display> screen;
+    if (made) {
+      screen = std::move(*made);
+      logLine("display: " + screen->name() + " " + std::to_string(screen->width()) + "x" + std::to_string(screen->height()));
+    } else if (config.display == "auto") {
+      logLine(made.error() + "; drawing into memory only (snapshots still work)");
+      screen = std::make_unique<MemoryDisplay>(config.width, config.height, "no display back end started");
+    } else {
+      logLine(made.error());
+      return 1;
+    }
+    X11Display* x11 = asX11Display(screen.get());
+
+    // ---- the attract pieces: from disk, else built in
+    std::vector<AttractPiece> pieces;
+    if (const auto dir = findPiecesDir(config.piecesDir, argv[0])) {
+      pieces = loadAttractPieces(*dir, logLine);
+      logLine("attract: " + std::to_string(pieces.size()) + " pieces from " + dir->string());
+    } else if (!config.piecesDir.empty()) {
+      logLine("attract: '" + config.piecesDir.string() + "' is not a folder");
+    }
+    if (pieces.empty()) {
+      pieces = builtinAttractPieces();
+      logLine("attract: playing the " + std::to_string(pieces.size()) + " built-in pieces");
+    }
+
+    const auto clock = [] { return monotonicSeconds(); };
+    KioskStart start;
+    start.staff = staff;
+    if (!attractStart.empty()) {
+      unsigned index = 0;
+      double fraction = 0;
+      if (std::sscanf(attractStart.c_str(), "%u:%lf", &index, &fraction) != 2 || fraction < 0 || fraction > 1) {
+        logLine("--attract-start must be INDEX:FRACTION, e.g. 2:0.8");
+        return 2;
+      }
+      start.attractPiece = index;
+      start.attractDone = fraction;
+    }
+    KioskApp app(config, std::move(pieces), *screen, logLine, clock, start);
+    app.setDeviceNote("Service manager", notifier->name());
+    app.setDeviceNote("Camera", "not used by the kiosk yet");
+
+    // ---- input: a recording, a tablet, the mouse; GPIO buttons, the keyboard
+    std::unique_ptr<PenSource> pen;
+    std::unique_ptr<MousePen> mouse;
+    std::unique_ptr<KeyButtons> keys;
+    std::unique_ptr<ButtonSource> gpio;
+    bool recordingFailed = false;
+    if (x11 && !attractOnly) {
+      mouse = std::make_unique<MousePen>(screen->width(), screen->height(), clock);
+      keys = std::make_unique<KeyButtons>(config.keys, clock);
+      app.addButtons(keys.get());
+    }
+    auto attachPen = [&] {
+      if (attractOnly) return;
+      if (pen) app.setPen(pen.get(), PenMapping::Tablet, fast);
+      else if (mouse) app.setPen(mouse.get(), PenMapping::Screen);
+      else app.setPen(nullptr, PenMapping::Tablet);
+    };
+    if (replay) {
+      auto r = openEvemuReplay(config.tablet.substr(6), fast);
+      if (r) {
+        pen = std::move(*r);
+        logLine("tablet: " + pen->name() + (fast ? " (fed as fast as possible)" : " (replayed in real time)"));
+      } else {
+        logLine("tablet: " + r.error() + "; going on without a pen");
+        recordingFailed = true;
+      }
+    } else if (config.tablet == "auto" && !attractOnly) {
+      auto r = openFirstTablet();
+      if (r) {
+        pen = std::move(*r);
+        logLine("tablet: " + pen->name());
+      } else {
+        logLine("tablet: " + r.error() + (mouse ? "; the mouse stands in" : "; looking again every 2 s"));
+      }
+    } else if (config.tablet != "none" && config.tablet != "auto") {
+      logLine("tablet: unknown '" + config.tablet + "' (auto, evemu:PATH or none); going on without a pen");
+    }
+    attachPen();
+    if (!attractOnly && config.buttons != "none") {
+      Result<ButtonConfig> bc = config.buttons == "auto" ? Result<ButtonConfig>(defaultButtonConfig()) : loadButtonConfig(config.buttons);
+      if (!bc) {
+        logLine("buttons: " + bc.error());
+      } else if (auto g = openGpioButtons(*bc)) {
+        gpio = std::move(*g);
+        app.addButtons(gpio.get());
+        logLine("buttons: " + gpio->name());
+      } else {
+        logLine("buttons: " + g.error());
+      }
+    }
+
+    notifier->ready(attractOnly ? "attract mode only" : "attract mode");
+    const double t0 = monotonicSeconds();
+    double lastProbe = t0, lastDisplayTry = t0;
+    std::vector<X11Event> xev;
+    bool closed = false;
+    while (!gStop) {
+      if (x11) {
+        xev.clear();
+        if (!x11->pollX11Events(xev)) closed = true;
+        for (const auto& e : xev) {
+          if (e.type == X11Event::Type::kClose) closed = true;
+          const PointerEvent p = toPointer(e);
+          if (attractOnly) {
+            if (p.type == PointerEvent::Type::Key && (p.key == "Escape" || p.key == "q")) closed = true;
+            continue;
+          }
+          if (mouse) mouse->feed(p);
+          if (keys) keys->feed(p);
+        }
+        if (closed) break;
+      }
+      if (!app.step()) break;
+      const double now = monotonicSeconds();
+      notifier->alive(now);
+      if (runFor > 0 && now - t0 >= runFor) break;
+      if (fast && (recordingFailed || app.feedDone())) break;
+      // A lost tablet: look for one again every 2 s (the mouse stands in meanwhile).
+      if (app.penLost() && !replay) {
+        pen.reset();
+        attachPen();
+      }
+      if (!pen && !replay && config.tablet == "auto" && !attractOnly && now - lastProbe > 2.0) {
+        lastProbe = now;
+        if (auto r = openFirstTablet()) {
+          pen = std::move(*r);
+          logLine("tablet: " + pen->name());
+          attachPen();
+        }
+      }
+      if (app.displayLost() && now - lastDisplayTry > 2.0) {
+        lastDisplayTry = now;
+        std::string log;
+        if (auto d = createDisplay(config.display, config.width, config.height, &log)) {
+          screen = std::move(*d);
+          x11 = asX11Display(screen.get());
+          app.setDisplay(*screen);
+          logLine("display: back: " + screen->name());
+        }
+      }
+      if (!app.busy()) {
+        // Nothing to trace: wait for the pen (where it has a descriptor) or 5 ms.
+        pollfd pfd{pen ? pen->fd() : -1, POLLIN, 0};
+        if (pfd.fd >= 0) ::poll(&pfd, 1, 5);
+        else std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+    }
+    if (gStop) logLine("stopping (signal)");
+    notifier->stopping();
+    app.finish();
+    int rc = 0;
+    if (!snapshot.empty()) {
+      Status s = app.writeSnapshot(snapshot);
+      if (s) std::printf("emboss-kiosk: wrote snapshot %s (%dx%d)\n", fs::absolute(snapshot).c_str(), screen->width(), screen->height());
+      else logLine("snapshot: " + s.error()), rc = 1;
+    }
+    if (!sessionOut.empty()) {
+      Status s = app.writeSession(sessionOut);
+      if (s) std::printf("emboss-kiosk: wrote session %s\n", fs::absolute(sessionOut).c_str());
+      else logLine("session: " + s.error()), rc = 1;
+    }
+    if (stats) std::fputs(app.statsReport().c_str(), stdout);
+    if (fast && recordingFailed) rc = 1;
+    return rc;
+  } catch (const std::exception& e) {
+    logLine(std::string("stopped by an unexpected error: ") + e.what());
+    return 1;
+  }
+}

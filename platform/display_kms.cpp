@@ -1,0 +1,420 @@
+// The KMS display: DRM card and connector discovery, GBM surface, EGL on EGL_PLATFORM_GBM_KHR,
+// drmModeSetCrtc for the first frame and drmModePageFlip (waiting for its vblank event) after.
+#include "display_kms.h"
+
+#include <fcntl.h>
+#include <gbm.h>
+#include <poll.h>
+#include <unistd.h>
+#include <xf86drm.h>
+#include <xf86drmMode.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "gl_egl.h"
+
+namespace emboss {
+namespace {
+
+constexpr int kFlipTimeoutMs = 1000;  // a 60 Hz flip takes 17 ms; a second means the output is gone
+constexpr auto kConnectorCheckInterval = std::chrono::seconds(1);
+
+class UniqueFd {
+ public:
+  UniqueFd() = default;
+  explicit UniqueFd(int fd) : fd_(fd) {}
+  UniqueFd(UniqueFd&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  UniqueFd& operator=(UniqueFd&& other) noexcept {
+    if (this != &other) {
+      reset();
+      fd_ = std::exchange(other.fd_, -1);
+    }
+    return *this;
+  }
+  ~UniqueFd() { reset(); }
+  int get() const { return fd_; }
+  void reset() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+template <class T, void (*Free)(T*)>
+struct FreeWith {
+  void operator()(T* p) const {
+    if (p != nullptr) Free(p);
+  }
+};
+using ResourcesPtr = std::unique_ptr<drmModeRes, FreeWith<drmModeRes, drmModeFreeResources>>;
+using ConnectorPtr = std::unique_ptr<drmModeConnector, FreeWith<drmModeConnector, drmModeFreeConnector>>;
+using EncoderPtr = std::unique_ptr<drmModeEncoder, FreeWith<drmModeEncoder, drmModeFreeEncoder>>;
+using CrtcPtr = std::unique_ptr<drmModeCrtc, FreeWith<drmModeCrtc, drmModeFreeCrtc>>;
+using VersionPtr = std::unique_ptr<drmVersion, FreeWith<drmVersion, drmFreeVersion>>;
+using GbmDevicePtr = std::unique_ptr<gbm_device, FreeWith<gbm_device, gbm_device_destroy>>;
+using GbmSurfacePtr = std::unique_ptr<gbm_surface, FreeWith<gbm_surface, gbm_surface_destroy>>;
+
+// A connected output with an open card, ready to be taken over.
+struct Candidate {
+  KmsOutput info;
+  UniqueFd fd;
+  std::uint32_t connectorId = 0;
+  std::uint32_t crtcId = 0;
+  drmModeModeInfo mode{};
+};
+
+std::string cardName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+// /dev/dri/card0, card1, ... in numeric order.
+std::vector<std::string> listCards() {
+  std::vector<std::pair<int, std::string>> cards;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator("/dev/dri", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("card", 0) != 0 || name.size() == 4) continue;
+    if (!std::all_of(name.begin() + 4, name.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
+    cards.emplace_back(std::stoi(name.substr(4)), entry.path().string());
+  }
+  std::sort(cards.begin(), cards.end());
+  std::vector<std::string> paths;
+  for (auto& c : cards) paths.push_back(std::move(c.second));
+  return paths;
+}
+
+std::string connectorName(const drmModeConnector& connector) {
+  const char* type = drmModeGetConnectorTypeName(connector.connector_type);
+  return std::string(type != nullptr ? type : "Unknown") + "-" + std::to_string(connector.connector_type_id);
+}
+
+// The preferred mode, else the largest (then fastest).
+const drmModeModeInfo* pickMode(const drmModeConnector& connector) {
+  const drmModeModeInfo* best = nullptr;
+  for (int i = 0; i < connector.count_modes; ++i) {
+    const drmModeModeInfo& m = connector.modes[i];
+    if (m.type & DRM_MODE_TYPE_PREFERRED) return &m;
+    const long area = static_cast<long>(m.hdisplay) * m.vdisplay;
+    if (best == nullptr || area > static_cast<long>(best->hdisplay) * best->vdisplay ||
+        (area == static_cast<long>(best->hdisplay) * best->vdisplay && m.vrefresh > best->vrefresh)) {
+      best = &m;
+    }
+  }
+  return best;
+}
+
+// The CRTC already driving the connector, else the first one an encoder of it can use.
+std::uint32_t pickCrtc(int fd, const drmModeRes& resources, const drmModeConnector& connector) {
+  if (connector.encoder_id != 0) {
+    EncoderPtr encoder(drmModeGetEncoder(fd, connector.encoder_id));
+    if (encoder && encoder->crtc_id != 0) return encoder->crtc_id;
+  }
+  for (int i = 0; i < connector.count_encoders; ++i) {
+    EncoderPtr encoder(drmModeGetEncoder(fd, connector.encoders[i]));
+    if (!encoder) continue;
+    for (int j = 0; j < resources.count_crtcs && j < 32; ++j) {
+      if (encoder->possible_crtcs & (1u << j)) return resources.crtcs[j];
+    }
+  }
+  return 0;
+}
+
+std::string join(const std::vector<std::string>& parts, const char* separator) {
+  std::string out;
+  for (const auto& p : parts) out += (out.empty() ? "" : separator) + p;
+  return out;
+}
+
+Result<Candidate> findOutput() {
+  const std::vector<std::string> cards = listCards();
+  if (cards.empty()) return fail("kms: no /dev/dri/card* (no GPU driver loaded)");
+  std::vector<std::string> problems;
+  for (const std::string& path : cards) {
+    UniqueFd fd(::open(path.c_str(), O_RDWR | O_CLOEXEC));
+    if (fd.get() < 0) {
+      const int error = errno;
+      std::string problem = "cannot open " + path + ": " + std::strerror(error);
+      if (error == EACCES) problem += " (add the kiosk user to the 'video' group)";
+      problems.push_back(problem);
+      continue;
+    }
+    ResourcesPtr resources(drmModeGetResources(fd.get()));
+    if (!resources) {
+      problems.push_back(cardName(path) + " has no display outputs (a render-only GPU)");
+      continue;
+    }
+    VersionPtr version(drmGetVersion(fd.get()));
+    const std::string driver = version && version->name != nullptr ? version->name : "unknown driver";
+    bool sawConnected = false;
+    for (int i = 0; i < resources->count_connectors; ++i) {
+      ConnectorPtr connector(drmModeGetConnector(fd.get(), resources->connectors[i]));
+      if (!connector || connector->connection != DRM_MODE_CONNECTED || connector->count_modes <= 0) continue;
+      sawConnected = true;
+      const drmModeModeInfo* mode = pickMode(*connector);
+      const std::uint32_t crtc = pickCrtc(fd.get(), *resources, *connector);
+      if (mode == nullptr || crtc == 0) {
+        problems.push_back(cardName(path) + " " + connectorName(*connector) + " has no usable CRTC");
+        continue;
+      }
+      Candidate c;
+      c.info = KmsOutput{path, driver, connectorName(*connector), mode->hdisplay, mode->vdisplay,
+                         static_cast<int>(mode->vrefresh)};
+      c.connectorId = connector->connector_id;
+      c.crtcId = crtc;
+      c.mode = *mode;
+      c.fd = std::move(fd);
+      return c;
+    }
+    if (!sawConnected) {
+      problems.push_back(cardName(path) + " has no connected connector (is the screen plugged in and switched on?)");
+    }
+  }
+  return fail("kms: " + join(problems, "; "));
+}
+
+struct FbData {
+  int fd;
+  std::uint32_t fbId;
+};
+
+void destroyFb(gbm_bo* /*bo*/, void* data) {
+  auto* fb = static_cast<FbData*>(data);
+  if (fb->fbId != 0) drmModeRmFB(fb->fd, fb->fbId);
+  delete fb;
+}
+
+void onPageFlip(int /*fd*/, unsigned /*frame*/, unsigned /*sec*/, unsigned /*usec*/, void* data) {
+  *static_cast<bool*>(data) = false;
+}
+
+class KmsDisplay final : public Display {
+ public:
+  explicit KmsDisplay(Candidate c)
+      : info_(c.info), fd_(std::move(c.fd)), connectorId_(c.connectorId), crtcId_(c.crtcId), mode_(c.mode) {}
+
+  ~KmsDisplay() override {
+    if (session_ && session_->makeCurrent()) presenter_.reset();  // GL objects go with the context
+    presenter_.reset();
+    if (savedCrtc_ && savedCrtc_->mode_valid && modeSet_) {  // give the console its picture back
+      drmModeSetCrtc(fd_.get(), savedCrtc_->crtc_id, savedCrtc_->buffer_id, savedCrtc_->x, savedCrtc_->y,
+                     &connectorId_, 1, &savedCrtc_->mode);
+    }
+    if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
+    session_.reset();  // the EGL surface before the gbm surface under it
+    surface_.reset();  // destroys the buffers, whose FbData removes their framebuffers
+    gbm_.reset();
+  }
+
+  Status start(const GlPresenterSettings& settings) {
+    const std::string where = cardName(info_.card) + " " + info_.connector;
+    savedCrtc_.reset(drmModeGetCrtc(fd_.get(), crtcId_));
+    gbm_.reset(gbm_create_device(fd_.get()));
+    if (!gbm_) return fail("kms: gbm_create_device failed on " + cardName(info_.card) + " (" + info_.driver + ")");
+    surface_.reset(gbm_surface_create(gbm_.get(), mode_.hdisplay, mode_.vdisplay, GBM_FORMAT_XRGB8888,
+                                      GBM_BO_USE_SCANOUT | GBM_BO_USE_RENDERING));
+    if (!surface_) return fail("kms: cannot create a " + sizeText() + " scanout surface on " + where);
+    if (!hasEglExtension(EGL_NO_DISPLAY, "EGL_KHR_platform_gbm") &&
+        !hasEglExtension(EGL_NO_DISPLAY, "EGL_MESA_platform_gbm")) {
+      return fail("kms: this EGL cannot render to GBM (no EGL_KHR_platform_gbm; install Mesa's libegl-mesa0)");
+    }
+    auto session = EglSession::open(EGL_PLATFORM_GBM_KHR, gbm_.get(), "kms");
+    if (!session) return fail(session.error());
+    session_ = std::move(*session);
+    const EGLDisplay display = session_->display();
+    auto matchesGbm = [display](EGLConfig config) {
+      EGLint id = 0;
+      return eglGetConfigAttrib(display, config, EGL_NATIVE_VISUAL_ID, &id) && id == GBM_FORMAT_XRGB8888;
+    };
+    if (Status s = session_->createContext(EGL_WINDOW_BIT, matchesGbm); !s) return s;
+    if (Status s = session_->createWindowSurface(surface_.get()); !s) return s;
+    if (!session_->makeCurrent()) {
+      return fail("kms: cannot make the GLES context current (" + eglErrorName(eglGetError()) + ")");
+    }
+    auto presenter = GlPresenter::create(session_->procLoader(), GlFlavor::kGles2, mode_.hdisplay,
+                                         mode_.vdisplay, false, settings);
+    if (!presenter) return fail("kms: " + presenter.error());
+    presenter_ = std::move(*presenter);
+    name_ = "kms (" + where + " " + sizeText() + "@" + std::to_string(info_.refreshHz) + ", " +
+            presenter_->renderer() + ")";
+    // Set the mode now with a black picture, so that a busy or refused output fails here, with a
+    // message, rather than at the first frame.
+    auto clearColor = reinterpret_cast<void (*)(float, float, float, float)>(eglGetProcAddress("glClearColor"));
+    auto clear = reinterpret_cast<void (*)(unsigned)>(eglGetProcAddress("glClear"));
+    if (clearColor != nullptr && clear != nullptr) {
+      clearColor(0, 0, 0, 1);
+      clear(0x00004000 /* GL_COLOR_BUFFER_BIT */);
+    }
+    std::string error;
+    if (!showFrame(&error)) return fail(error);
+    lastConnectorCheck_ = std::chrono::steady_clock::now();
+    return Ok{};
+  }
+
+  std::string name() const override { return name_; }
+  int width() const override { return mode_.hdisplay; }
+  int height() const override { return mode_.vdisplay; }
+
+  bool present(const Image& frame, std::span<const Rect> dirty, const Overlay& overlay) override {
+    if (lost_) return false;
+    if (!session_->makeCurrent()) return loseOutput("cannot make the GLES context current");
+    const auto now = std::chrono::steady_clock::now();
+    if (now - lastConnectorCheck_ >= kConnectorCheckInterval) {
+      lastConnectorCheck_ = now;
+      ConnectorPtr connector(drmModeGetConnectorCurrent(fd_.get(), connectorId_));
+      if (!connector || connector->connection != DRM_MODE_CONNECTED) {
+        return loseOutput(info_.connector + " was disconnected");
+      }
+    }
+    if (!presenter_->draw(frame, dirty, overlay)) return false;
+    std::string error;
+    if (!showFrame(&error)) return loseOutput(error);
+    return true;
+  }
+
+  Image screenshot() override {
+    if (lost_ || !session_->makeCurrent()) return Image();
+    return presenter_->screenshot();
+  }
+
+ private:
+  std::string sizeText() const { return std::to_string(mode_.hdisplay) + "x" + std::to_string(mode_.vdisplay); }
+
+  bool loseOutput(const std::string& why) {
+    if (!lost_) std::fprintf(stderr, "emboss: kms output lost: %s\n", why.c_str());
+    lost_ = true;
+    return false;
+  }
+
+  std::uint32_t framebufferFor(gbm_bo* bo) {
+    if (auto* fb = static_cast<FbData*>(gbm_bo_get_user_data(bo))) return fb->fbId;
+    const std::uint32_t w = gbm_bo_get_width(bo), h = gbm_bo_get_height(bo);
+    std::uint32_t handles[4] = {gbm_bo_get_handle(bo).u32, 0, 0, 0};
+    std::uint32_t pitches[4] = {gbm_bo_get_stride(bo), 0, 0, 0};
+    std::uint32_t offsets[4] = {0, 0, 0, 0};
+    std::uint32_t id = 0;
+    if (drmModeAddFB2(fd_.get(), w, h, gbm_bo_get_format(bo), handles, pitches, offsets, &id, 0) != 0 &&
+        drmModeAddFB(fd_.get(), w, h, 24, 32, pitches[0], handles[0], &id) != 0) {
+      return 0;
+    }
+    gbm_bo_set_user_data(bo, new FbData{fd_.get(), id}, destroyFb);
+    return id;
+  }
+
+  // Swaps, then puts the new front buffer on screen: drmModeSetCrtc the first time, afterwards a
+  // page flip whose completion (the next vblank) it waits for.
+  bool showFrame(std::string* error) {
+    const std::string where = cardName(info_.card) + " " + info_.connector;
+    if (!session_->swapBuffers()) {
+      *error = "kms: eglSwapBuffers failed on " + where + " (" + eglErrorName(eglGetError()) + ")";
+      return false;
+    }
+    gbm_bo* next = gbm_surface_lock_front_buffer(surface_.get());
+    if (next == nullptr) {
+      *error = "kms: no front buffer from GBM on " + where;
+      return false;
+    }
+    const std::uint32_t fb = framebufferFor(next);
+    if (fb == 0) {
+      gbm_surface_release_buffer(surface_.get(), next);
+      *error = "kms: cannot make a framebuffer for scanout on " + where + ": " + std::strerror(errno);
+      return false;
+    }
+    if (!modeSet_) {
+      if (drmModeSetCrtc(fd_.get(), crtcId_, fb, 0, 0, &connectorId_, 1, &mode_) != 0) {
+        const int e = errno;
+        gbm_surface_release_buffer(surface_.get(), next);
+        *error = "kms: cannot set " + sizeText() + " on " + where + ": " + std::strerror(e);
+        if (e == EACCES || e == EPERM || e == EBUSY) {
+          *error += " (another program -- X, Wayland, a second kiosk -- owns the screen; stop it, or use x11)";
+        }
+        return false;
+      }
+      modeSet_ = true;
+    } else {
+      bool pending = true;
+      if (drmModePageFlip(fd_.get(), crtcId_, fb, DRM_MODE_PAGE_FLIP_EVENT, &pending) != 0) {
+        const int e = errno;
+        gbm_surface_release_buffer(surface_.get(), next);
+        *error = "kms: page flip refused on " + where + ": " + std::strerror(e);
+        return false;
+      }
+      drmEventContext events{};
+      events.version = 2;
+      events.page_flip_handler = onPageFlip;
+      while (pending) {
+        pollfd p{fd_.get(), POLLIN, 0};
+        const int ready = ::poll(&p, 1, kFlipTimeoutMs);
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready <= 0 || (p.revents & (POLLERR | POLLHUP | POLLNVAL))) {
+          // The flip may still land later; keep the buffer locked so it is never reused under it.
+          if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
+          onScreen_ = next;
+          *error = "kms: no vblank from " + where + " for a second (display off or unplugged?)";
+          return false;
+        }
+        drmHandleEvent(fd_.get(), &events);
+      }
+    }
+    if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
+    onScreen_ = next;
+    return true;
+  }
+
+  KmsOutput info_;
+  UniqueFd fd_;  // declared first: closed last, after every GBM and EGL object on it
+  std::uint32_t connectorId_, crtcId_;
+  drmModeModeInfo mode_;
+  CrtcPtr savedCrtc_;
+  GbmDevicePtr gbm_;
+  GbmSurfacePtr surface_;
+  std::unique_ptr<EglSession> session_;
+  std::unique_ptr<GlPresenter> presenter_;
+  gbm_bo* onScreen_ = nullptr;  // locked front buffer being scanned out
+  bool modeSet_ = false;
+  bool lost_ = false;
+  std::chrono::steady_clock::time_point lastConnectorCheck_;
+  std::string name_;
+};
+
+}  // namespace
+
+Result<KmsOutput> probeKmsOutput() {
+  auto found = findOutput();
+  if (!found) return fail(found.error());
+  return found->info;
+}
+
+Result<std::unique_ptr<Display>> createKmsDisplay(const GlPresenterSettings& settings) {
+  auto found = findOutput();
+  if (!found) return fail(found.error());
+  auto display = std::make_unique<KmsDisplay>(std::move(*found));
+  if (Status s = display->start(settings); !s) return fail(s.error());
+  return std::unique_ptr<Display>(std::move(display));
+}
+
+Result<std::unique_ptr<Display>> waitForKmsDisplay(std::chrono::milliseconds timeout,
+                                                   const GlPresenterSettings& settings,
+                                                   const std::function<bool(const std::string&)>& keepWaiting) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline = start + timeout;
+  for (;;) {
+    auto display = createKmsDisplay(settings);
+    if (display) return display;
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline) {
+      const auto waited = std::chrono::duration_cast<std::chrono::seconds>(now - start).count();
+      return fail(display.error() + " (waited " + std::to_string(waited) + " s for a display)");
+    }
+    if (keepWaiting && !keepWaiting(display.error())) return fail(display.error() + " (gave up waiting)");
+    std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(std::chrono::seconds(1), deadline - now));
+  }
+}
+
+}  // namespace emboss

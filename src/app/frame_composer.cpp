@@ -1,0 +1,194 @@
+// Scheduling the ray tracer for the kiosk: dirty rectangles first, previews and refinement bands after.
+#include "app/frame_composer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace emboss {
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Rect unite(const Rect& a, const Rect& b) {
+  const int x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
+  const int x1 = std::max(a.x + a.w, b.x + b.w), y1 = std::max(a.y + a.h, b.y + b.h);
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+std::string cameraKey(const CameraSpec& c) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g", static_cast<int>(c.type),
+                c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fovDeg,
+                c.height);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<Rect> mergeRects(std::vector<Rect> rects) {
+  rects.erase(std::remove_if(rects.begin(), rects.end(), [](const Rect& r) { return r.empty(); }), rects.end());
+  bool merged = true;
+  while (merged) {
+    merged = false;
+    for (size_t i = 0; i < rects.size() && !merged; ++i)
+      for (size_t j = i + 1; j < rects.size() && !merged; ++j) {
+        const Rect u = unite(rects[i], rects[j]);
+        if (static_cast<double>(u.area()) <= 1.25 * (rects[i].area() + rects[j].area())) {
+          rects[i] = u;
+          rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(j));
+          merged = true;
+        }
+      }
+  }
+  return rects;
+}
+
+FrameComposer::FrameComposer(ThreadPool& pool, int width, int height)
+    : pool_(pool), renderer_(pool), w_(width), h_(height), frame_(width, height) {
+  for (size_t i = 3; i < frame_.rgba.size(); i += 4) frame_.rgba[i] = 255;
+  nextBand_ = h_;
+}
+
+FrameComposer::BlankKey FrameComposer::blankKey() const {
+  return {model_ ? &model_->workpiece() : nullptr, cameraKey(camera_), shadingKey_};
+}
+
+void FrameComposer::show(const Model& model, const CameraSpec& camera, const ShadingParams& shading,
+                         const ViewChanges& changes, bool moving) {
+  bool full = changes.full || &model != model_;
+  const std::string sk = std::string(shading.metal.name) + "/" + std::string(shading.tinge.name) + "/" +
+                         std::to_string(shading.frontZ);
+  if (sk != shadingKey_) {
+    shadingKey_ = sk;
+    shading_ = shading;
+    renderer_.setShading(shading);
+    full = true;
+  }
+  if (!cameraSet_ || changes.camera || cameraKey(camera) != cameraKey(camera_)) {
+    if (!cameraSet_ || cameraKey(camera) != cameraKey(camera_)) full = true;
+    camera_ = camera;
+    cameraSet_ = true;
+    renderer_.setCamera(Camera(camera_, w_, h_));
+  }
+  if (&model != model_ || model.revision() != revision_) {
+    model_ = &model;
+    revision_ = model.revision();
+    renderer_.sync(model);
+  }
+  if (full) {
+    urgent_.clear();
+    const auto it = model.activeCount() == 0 ? blanks_.find(blankKey()) : blanks_.end();
+    if (it != blanks_.end()) {
+      frame_ = it->second;
+      needPreview_ = false;
+      nextBand_ = h_;
+      ++counters_.blankReuses;
+      blankCopied_ = true;
+    } else {
+      needPreview_ = true;
+      nextBand_ = moving ? h_ : 0;
+    }
+    refineAfterMove_ = moving && it == blanks_.end();
+    return;
+  }
+  if (!moving && refineAfterMove_) {
+    refineAfterMove_ = false;
+    nextBand_ = 0;
+  }
+  for (size_t i : changes.ops) {
+    const Rect r = renderer_.dirtyRect(model, i);
+    if (!r.empty()) urgent_.push_back(r);
+  }
+}
+
+void FrameComposer::renderRect(const Rect& r, std::vector<Rect>& changed) {
+  RenderStats st;
+  const auto t0 = std::chrono::steady_clock::now();
+  renderer_.render(frame_, r, &st);
+  const double ms = msSince(t0);
+  counters_.render += st;
+  if (ms > 0.5 && r.area() > 0) {
+    const double speed = r.area() / ms;
+    pxPerMs_ = pxPerMs_ <= 0 ? speed : 0.8 * pxPerMs_ + 0.2 * speed;
+  }
+  changed.push_back(r);
+}
+
+void FrameComposer::preview(std::vector<Rect>& changed) {
+  needPreview_ = false;
+  const int pw = std::max(8, w_ / previewScale_), ph = std::max(8, h_ / previewScale_);
+  const auto t0 = std::chrono::steady_clock::now();
+  renderer_.setCamera(Camera(camera_, pw, ph));
+  RenderStats st;
+  renderer_.renderFull(low_, &st);
+  renderer_.setCamera(Camera(camera_, w_, h_));
+  counters_.render += st;
+  // Bilinear enlargement into the frame.
+  for (int y = 0; y < h_; ++y) {
+    const double fy = std::clamp((y + 0.5) * ph / h_ - 0.5, 0.0, ph - 1.0);
+    const int y0 = static_cast<int>(fy), y1 = std::min(y0 + 1, ph - 1);
+    const double ty = fy - y0;
+    for (int x = 0; x < w_; ++x) {
+      const double fx = std::clamp((x + 0.5) * pw / w_ - 0.5, 0.0, pw - 1.0);
+      const int x0 = static_cast<int>(fx), x1 = std::min(x0 + 1, pw - 1);
+      const double tx = fx - x0;
+      std::uint8_t* d = frame_.pixel(x, y);
+      const std::uint8_t *a = low_.pixel(x0, y0), *b = low_.pixel(x1, y0), *c = low_.pixel(x0, y1), *e = low_.pixel(x1, y1);
+      for (int k = 0; k < 3; ++k) {
+        const double v = (a[k] * (1 - tx) + b[k] * tx) * (1 - ty) + (c[k] * (1 - tx) + e[k] * tx) * ty;
+        d[k] = static_cast<std::uint8_t>(std::lround(v));
+      }
+      d[3] = 255;
+    }
+  }
+  const double ms = msSince(t0);
+  counters_.lastPreviewMs = ms;
+  ++counters_.previews;
+  // Keep a preview near 40 ms: coarser when slow, finer when there is time.
+  if (ms > 60 && previewScale_ < 8) ++previewScale_;
+  else if (ms < 15 && previewScale_ > 2) --previewScale_;
+  changed.push_back({0, 0, w_, h_});
+}
+
+void FrameComposer::work(double budgetMs, std::vector<Rect>& changed) {
+  if (!model_ || !cameraSet_) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (blankCopied_) {
+    blankCopied_ = false;
+    changed.push_back({0, 0, w_, h_});
+  }
+  if (needPreview_) preview(changed);
+  for (const Rect& r : mergeRects(std::move(urgent_))) {
+    renderRect(r, changed);
+    ++counters_.dirtyRects;
+    counters_.dirtyPixels += r.area();
+  }
+  urgent_.clear();
+  while (nextBand_ < h_) {
+    const double left = budgetMs - msSince(t0);
+    if (left <= 0) break;
+    // As many rows as fit in what is left of the budget at the measured speed.
+    int rows = pxPerMs_ > 0 ? static_cast<int>(left * pxPerMs_ / w_) : bandRows_;
+    rows = std::clamp(rows, 4, h_);
+    const Rect band{0, nextBand_, w_, std::min(rows, h_ - nextBand_)};
+    renderRect(band, changed);
+    ++counters_.bands;
+    nextBand_ += band.h;
+    if (nextBand_ >= h_ && model_->activeCount() == 0 && blanks_.size() < 8) blanks_[blankKey()] = frame_;
+  }
+}
+
+void FrameComposer::flush(std::vector<Rect>& changed) {
+  if (refineAfterMove_) {
+    refineAfterMove_ = false;
+    nextBand_ = 0;
+  }
+  while (pending()) work(1e9, changed);
+}
+
+}  // namespace emboss

@@ -1,0 +1,84 @@
+// The frame on screen: dirty rectangles traced at once, whole-frame changes as a quick coarse
+// preview refined band by band, so the kiosk answers the pen while a big redraw is under way.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "app/view_changes.h"
+#include "render/renderer.h"
+
+namespace emboss {
+
+// Uses only the Renderer's public API. A pixel's final value depends only on the model, the
+// camera and the shading (the renderer's guarantee), so tracing a region twice, or in any order,
+// gives the same frame as one full render: the composer is free to schedule.
+class FrameComposer {
+ public:
+  FrameComposer(ThreadPool& pool, int width, int height);
+
+  int width() const { return w_; }
+  int height() const { return h_; }
+
+  // What to show now. `changes` are the view's changes since the last call. A different model,
+  // a full change, another shading or a moved camera start a preview and a refinement; changed
+  // operations add their dirty rectangles. With `moving`, a camera in motion: only previews.
+  void show(const Model& model, const CameraSpec& camera, const ShadingParams& shading, const ViewChanges& changes,
+            bool moving);
+
+  // Traces dirty rectangles (always all of them: they are what the visitor just did), then
+  // refinement bands until about `budgetMs` have passed. Appends the rectangles of frame() that
+  // changed.
+  void work(double budgetMs, std::vector<Rect>& changed);
+  // Traces everything pending (for snapshots, saving and exit).
+  void flush(std::vector<Rect>& changed);
+  bool pending() const { return !urgent_.empty() || nextBand_ < h_ || needPreview_ || blankCopied_; }
+  bool refining() const { return nextBand_ < h_; }
+
+  const Image& frame() const { return frame_; }
+  const CameraSpec& camera() const { return camera_; }
+
+  // Counters for the diagnostics screen.
+  struct Counters {
+    std::uint64_t dirtyRects = 0, dirtyPixels = 0, previews = 0, bands = 0, blankReuses = 0;
+    double lastPreviewMs = 0;
+    RenderStats render;
+  };
+  const Counters& counters() const { return counters_; }
+
+ private:
+  using BlankKey = std::tuple<const void*, std::string, std::string>;
+  void preview(std::vector<Rect>& changed);
+  void renderRect(const Rect& r, std::vector<Rect>& changed);
+  BlankKey blankKey() const;
+
+  ThreadPool& pool_;
+  Renderer renderer_;
+  int w_, h_;
+  Image frame_, low_;
+  const Model* model_ = nullptr;
+  std::uint64_t revision_ = ~0ull;
+  CameraSpec camera_;
+  bool cameraSet_ = false;
+  std::string shadingKey_;
+  ShadingParams shading_{};
+  std::vector<Rect> urgent_;
+  bool needPreview_ = false;
+  bool blankCopied_ = false;      // frame_ was just replaced by a remembered bare sheet
+  bool refineAfterMove_ = false;  // the camera moved: refine once it stops
+  int nextBand_ = 0;      // rows [nextBand_, h) still show the preview
+  int bandRows_ = 16;
+  int previewScale_ = 3;
+  double pxPerMs_ = 0;    // measured tracing speed
+  std::map<BlankKey, Image> blanks_;  // the bare sheet per workpiece, shading and camera
+  Counters counters_;
+};
+
+// The rectangles merged where that saves work (a union no bigger than the parts plus a quarter).
+std::vector<Rect> mergeRects(std::vector<Rect> rects);
+
+}  // namespace emboss

@@ -1,0 +1,48 @@
+// Measures what a visitor feels: frames per second per mode and stroke-to-screen latency.
+#pragma once
+
+#include <cstddef>
+#include <deque>
+#include <string>
+#include <vector>
+
+namespace emboss {
+
+// Latency: from the moment a pen event reached the kiosk (polled from the device, or, for a
+// recording fed with --fast, taken from the queue) to the moment the frame that first shows the
+// operation it made was presented. Only events that made an operation count.
+class LatencyMeter {
+ public:
+  // An event that made operations, arrived at `arrival` (seconds). The earliest unshown one is kept.
+  void madeOperation(double arrival);
+  // A frame with the model's changes was presented at `now`.
+  void presented(double now);
+  size_t count() const { return ms_.size(); }
+  double meanMs() const;
+  double percentileMs(double p) const;  // p in 0..100
+  double maxMs() const;
+
+ private:
+  bool pending_ = false;
+  double since_ = 0;
+  std::vector<double> ms_;
+};
+
+// Frames presented per second, in total for a mode and over the last few seconds.
+class FpsMeter {
+ public:
+  void frame(double now);
+  // Adds time spent in the mode (called every loop iteration with the time since the last).
+  void time(double seconds) { seconds_ += seconds; }
+  double meanFps() const { return seconds_ > 0 ? frames_ / seconds_ : 0.0; }
+  double recentFps(double now) const;
+  size_t frames() const { return frames_; }
+  double seconds() const { return seconds_; }
+
+ private:
+  size_t frames_ = 0;
+  double seconds_ = 0;
+  std::deque<double> recent_;
+};
+
+}  // namespace emboss

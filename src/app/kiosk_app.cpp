@@ -1,0 +1,534 @@
+// The kiosk's main-loop step: input -> states -> bench or attract -> tracing -> overlay -> present.
+#include "app/kiosk_app.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "app/memory_display.h"
+#include "frep/workpieces.h"
+
+namespace emboss {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kFrameSeconds = 1.0 / 60.0;  // one display frame: how much of a recording --fast feeds per step
+constexpr double kBudgetMs = 35.0;            // tracing per step beyond the dirty rectangles
+constexpr double kAnimationPeriod = 1.0 / 30.0;
+
+const char* const kStaffMenu[] = {"Back to the exhibit", "Export sessions", "Reset the exhibit"};
+constexpr size_t kStaffItems = 3;
+
+std::string fmt(const char* f, double a) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, f, a);
+  return buf;
+}
+
+}  // namespace
+
+KioskApp::KioskApp(KioskConfig config, std::vector<AttractPiece> pieces, Display& display, KioskLog log, Clock clock,
+                   KioskStart start)
+    : config_(std::move(config)),
+      display_(&display),
+      log_(std::move(log)),
+      clock_(std::move(clock)),
+      states_(KioskTimings{config_.idleSeconds, config_.countdownSeconds, config_.staffIdleSeconds, config_.staffChordSeconds},
+              config_.staffChord, clock_()) {
+  const int w = display.width(), h = display.height();
+  pool_ = std::make_unique<ThreadPool>(config_.threads);
+  composer_ = std::make_unique<FrameComposer>(*pool_, w, h);
+  BenchSetup setup;
+  setup.workpiece = std::make_shared<Plate>(config_.sheetWidth / 2, config_.sheetHeight / 2, config_.sheetThickness / 2);
+  setup.metal = config_.metal;
+  setup.width = w, setup.height = h;
+  setup.tabletAspect = config_.tabletAspect;
+  bench_ = std::make_unique<Workbench>(setup);
+  attract_ = std::make_unique<AttractPlayer>(std::move(pieces), w, h, config_.attractSpeed);
+  sessions_ = std::make_unique<SessionStore>(config_.sessionsDir, log_);
+  // The bare sheet of the bench, traced once now: a visitor's first touch then shows at once.
+  {
+    std::vector<Rect> ignored;
+    composer_->show(bench_->model(), bench_->camera(), bench_->shading(), ViewChanges{true, false, {}}, false);
+    composer_->flush(ignored);
+    benchShown_ = true;
+  }
+  const double now = clock_();
+  started_ = lastStep_ = now;
+  startAttract(now, attract_->empty() ? 0 : start.attractPiece % attract_->size(), start.attractDone);
+  if (start.staff) {
+    states_.enterStaff(now);
+    handleEvents(now);
+  }
+}
+
+KioskApp::~KioskApp() = default;
+
+void KioskApp::setPen(PenSource* pen, PenMapping mapping, bool fast) {
+  pen_ = pen;
+  mapping_ = mapping;
+  fast_ = fast;
+  penLost_ = false;
+  queue_.clear();
+  lastTip_ = lastBarrel1_ = lastBarrel2_ = false;
+}
+
+void KioskApp::addButtons(ButtonSource* buttons) {
+  if (buttons) buttons_.push_back(buttons);
+}
+
+void KioskApp::setDisplay(Display& display) {
+  display_ = &display;
+  displayLost_ = false;
+  firstPresent_ = true;
+  if (display.width() != composer_->width() || display.height() != composer_->height()) {
+    // Another screen size: a new frame, bench and attract loop for it; the visitor's work is kept.
+    saveSession("the screen changed");
+    const int w = display.width(), h = display.height();
+    composer_ = std::make_unique<FrameComposer>(*pool_, w, h);
+    BenchSetup setup;
+    setup.workpiece = bench_->model().workpiecePtr();
+    setup.metal = config_.metal;
+    setup.width = w, setup.height = h;
+    setup.tabletAspect = config_.tabletAspect;
+    bench_ = std::make_unique<Workbench>(setup);
+    const double now = clock_();
+    states_.resetToAttract(now);
+    states_.takeEvents();
+    benchShown_ = false;
+    log_("display: now " + display.name() + " " + std::to_string(w) + "x" + std::to_string(h));
+    startAttract(now, attract_->pieceIndex(), 0.0);
+  }
+}
+
+void KioskApp::setDeviceNote(const std::string& key, const std::string& value) { deviceNotes_[key] = value; }
+
+const FpsMeter& KioskApp::fps(KioskMode m) const {
+  static const FpsMeter none;
+  const auto it = fps_.find(m);
+  return it == fps_.end() ? none : it->second;
+}
+
+bool KioskApp::busy() const {
+  return composer_->pending() || !queue_.empty() || bench_->moving() || attract_->moving() ||
+         (fast_ && pen_ && !pen_->finished());
+}
+
+bool KioskApp::feedDone() const { return fast_ && (!pen_ || pen_->finished()) && queue_.empty(); }
+
+void KioskApp::startAttract(double now, size_t index, double done) {
+  if (attract_->empty()) return;
+  attract_->start(now, index, done);
+  if (log_) log_("attract: playing '" + attract_->title() + "'");
+}
+
+void KioskApp::pollInput(double now) {
+  if (pen_) {
+    std::vector<PenSample> got;
+    const bool alive = pen_->poll(got);
+    for (const auto& s : got) queue_.push_back({s, now});
+    if (!alive) {
+      if (log_) log_("pen: '" + pen_->name() + "' stopped answering (unplugged?); the kiosk goes on without it");
+      pen_ = nullptr;
+      penLost_ = true;
+      bench_->penAway();
+      lastTip_ = false;
+    }
+  }
+  for (size_t i = 0; i < buttons_.size();) {
+    std::vector<ButtonEvent> events;
+    const bool alive = buttons_[i]->poll(events);
+    for (const auto& e : events) handleButton(e, now);
+    if (!alive) {
+      if (log_) log_("buttons: '" + buttons_[i]->name() + "' stopped answering; dropped");
+      buttons_.erase(buttons_.begin() + static_cast<std::ptrdiff_t>(i));
+    } else {
+      ++i;
+    }
+  }
+}
+
+void KioskApp::handleEvents(double now) {
+  for (KioskEvent ev : states_.takeEvents()) {
+    if (log_) log_(std::string("state: ") + kioskEventName(ev) + " (now " + kioskModeName(states_.mode()) + ")");
+    switch (ev) {
+      case KioskEvent::VisitorArrived:
+        bench_->resetForVisitor(now);
+        sessionStarted_ = now;
+        break;
+      case KioskEvent::CountdownStarted: bench_->penAway(); break;
+      case KioskEvent::VisitorBack: break;
+      case KioskEvent::SessionEnded:
+        saveSession("the visitor left");
+        bench_->resetForVisitor(now);
+        startAttract(now, attract_->empty() ? 0 : (attract_->pieceIndex() + 1) % attract_->size(), 0.0);
+        break;
+      case KioskEvent::StaffEntered:
+        bench_->penAway();
+        staff_.selected = 0;
+        staff_.message.clear();
+        break;
+      case KioskEvent::StaffLeft: break;
+    }
+  }
+}
+
+void KioskApp::handleButton(const ButtonEvent& e, double now) {
+  if (e.action == Action::Quit) {
+    if (e.pressed) quit_ = true;
+    return;
+  }
+  const bool act = states_.button(e, now);
+  handleEvents(now);
+  if (!act || !e.pressed) return;
+  switch (states_.mode()) {
+    case KioskMode::Staff:
+      switch (e.action) {
+        case Action::NextTool:
+        case Action::SizeDown: staff_.selected = (staff_.selected + 1) % kStaffItems; break;
+        case Action::PrevTool:
+        case Action::SizeUp: staff_.selected = (staff_.selected + kStaffItems - 1) % kStaffItems; break;
+        case Action::Turn:
+        case Action::NewSheet:
+        case Action::Redo: staffActivate(staff_.selected); break;
+        case Action::Undo: staffActivate(0); break;
+        default: break;
+      }
+      break;
+    case KioskMode::Visitor:
+      if (e.action == Action::NewSheet) saveSession("a new sheet");
+      bench_->apply(e.action, now);
+      break;
+    default: break;
+  }
+}
+
+void KioskApp::handlePen(const PenSample& s, double arrival, double now) {
+  // The barrel buttons are buttons (a press wakes the kiosk as any button does).
+  const std::pair<bool, Action> barrels[2] = {{s.barrel1 && !lastBarrel1_, config_.penButton1},
+                                              {s.barrel2 && !lastBarrel2_, config_.penButton2}};
+  lastBarrel1_ = s.barrel1, lastBarrel2_ = s.barrel2;
+  for (const auto& [pressed, action] : barrels)
+    if (pressed && action != Action::None) {
+      handleButton({now, action, true, false}, now);
+      handleButton({now, action, false, false}, now);
+    }
+  const bool down = s.tip && !lastTip_;
+  lastTip_ = s.tip;
+  const double W = composer_->width(), H = composer_->height();
+  if (states_.mode() == KioskMode::Staff) {
+    if (!down) return;
+    // Staff taps the menu: the whole tablet is the whole screen here.
+    const double sx = s.x * W, sy = s.y * H;
+    const auto boxes = staffMenuBoxes(composer_->width(), composer_->height(), kStaffItems);
+    states_.penTouch(now);
+    for (size_t i = 0; i < boxes.size(); ++i)
+      if (sx >= boxes[i].x && sx < boxes[i].x + boxes[i].w && sy >= boxes[i].y && sy < boxes[i].y + boxes[i].h) {
+        staff_.selected = i;
+        staffActivate(i);
+        break;
+      }
+    return;
+  }
+  if (s.tip) {
+    states_.penTouch(now);  // attract -> visitor: the bench is fresh before this very sample embosses
+    handleEvents(now);
+  }
+  if (states_.mode() != KioskMode::Visitor && states_.mode() != KioskMode::StillThere) return;
+  double sx, sy;
+  if (mapping_ == PenMapping::Screen) {
+    sx = s.x * W, sy = s.y * H;
+  } else {
+    const ScreenBox a = bench_->tabletArea();
+    sx = a.x + s.x * a.w, sy = a.y + s.y * a.h;
+  }
+  bench_->pen(sx, sy, s.pressure, s.tip, s.inRange, now);
+  if (bench_->committed() != lastCommitted_) {
+    lastCommitted_ = bench_->committed();
+    latency_.madeOperation(arrival);
+  }
+}
+
+void KioskApp::saveSession(const std::string& why) {
+  bench_->finishStroke();  // a stroke in progress is part of the session
+  lastCommitted_ = bench_->committed();  // (not a pen event's latency: the stroke ends here)
+  if (bench_->model().activeCount() == 0) return;
+  // The picture: the bench as the visitor last saw it, traced to the end.
+  ViewChanges ch = bench_->takeChanges();
+  if (!benchShown_) ch.full = true;
+  benchShown_ = true;
+  composer_->show(bench_->model(), bench_->camera(), bench_->shading(), ch, false);
+  std::vector<Rect> changed;
+  composer_->flush(changed);
+  const std::string stamp = fileStamp();
+  const Scene scene = bench_->scene("Visitor session " + stamp);
+  lastSessionJson_ = sceneToJson(scene, &bench_->model());
+  if (log_) log_("session: saving (" + why + ")");
+  sessions_->save(scene, bench_->model(), &composer_->frame(), stamp);
+  changed_.insert(changed_.end(), changed.begin(), changed.end());
+}
+
+void KioskApp::staffActivate(size_t index) {
+  const double now = clock_();
+  states_.penTouch(now);  // staff activity
+  switch (index) {
+    case 0:
+      states_.leaveStaff(now);
+      handleEvents(now);
+      break;
+    case 1: {
+      std::optional<SessionStore::Extra> current;
+      std::string json;
+      if (bench_->model().activeCount() > 0) {
+        json = sceneToJson(bench_->scene("Visitor session in progress"), &bench_->model());
+        current = SessionStore::Extra{json, benchShown_ ? &composer_->frame() : nullptr};
+      }
+      sessions_->retryPending();
+      auto r = sessions_->exportAll(config_.exportDir, fileStamp(), current);
+      if (r) {
+        staff_.message = "Exported " + std::to_string(r->files) + " files (" + std::to_string(r->bytes / 1024) +
+                         " KiB) to " + r->folder.string();
+        staff_.messageIsError = false;
+      } else {
+        staff_.message = r.error();
+        staff_.messageIsError = true;
+      }
+      if (log_) log_("staff: " + staff_.message);
+      break;
+    }
+    case 2: {
+      const bool hadVisitor = states_.modeBeforeStaff() != KioskMode::Attract;
+      states_.resetToAttract(now);
+      handleEvents(now);  // saves the visitor's session and restarts attract
+      if (!hadVisitor) {
+        bench_->resetForVisitor(now);
+        startAttract(now, 0, 0.0);
+      }
+      staff_.message = "The exhibit was reset";
+      staff_.messageIsError = false;
+      if (log_) log_("staff: the exhibit was reset");
+      break;
+    }
+    default: break;
+  }
+}
+
+void KioskApp::updateStaffView(double now) {
+  staff_.menu.assign(std::begin(kStaffMenu), std::end(kStaffMenu));
+  auto& L = staff_.lines;
+  L.clear();
+  L.push_back("Display: " + display_->name() + " " + std::to_string(display_->width()) + "x" + std::to_string(display_->height()));
+  L.push_back("Pen: " + (pen_ ? pen_->name() : std::string("none")));
+  std::string b;
+  for (auto* s : buttons_) b += (b.empty() ? "" : ", ") + s->name();
+  L.push_back("Buttons: " + (b.empty() ? std::string("none") : b));
+  for (const auto& [k, v] : deviceNotes_) L.push_back(k + ": " + v);
+  std::string rates;
+  for (KioskMode m : {KioskMode::Attract, KioskMode::Visitor})
+    if (fps(m).seconds() > 0.5) rates += (rates.empty() ? "" : ", ") + std::string(kioskModeName(m)) + fmt(" %.1f fps", fps(m).meanFps());
+  L.push_back("Frame rate: " + (rates.empty() ? std::string("not measured yet") : rates));
+  if (latency_.count())
+    L.push_back(fmt("Stroke to screen: mean %.0f ms", latency_.meanMs()) + fmt(", 95%% %.0f ms", latency_.percentileMs(95)) +
+                " (" + std::to_string(latency_.count()) + " updates)");
+  else
+    L.push_back("Stroke to screen: no strokes yet");
+  const auto& c = composer_->counters();
+  L.push_back("Tracing: " + std::to_string(c.dirtyRects) + " dirty updates, " + std::to_string(c.previews) + " previews, " +
+              std::to_string(c.bands) + " bands");
+  L.push_back("Sessions: " + std::to_string(sessions_->list().size()) + " in " + sessions_->dir().string() + ", " +
+              std::to_string(sessions_->pendingCount()) + " waiting to be written");
+  std::error_code ec;
+  const auto sp = fs::space(sessions_->dir(), ec);
+  if (!ec) L.push_back(fmt("Free space for sessions: %.0f MiB", sp.available / 1048576.0));
+  L.push_back("Export folder: " + config_.exportDir.string() + (fs::is_directory(config_.exportDir, ec) ? "" : " (not there)"));
+  const int up = static_cast<int>(now - started_);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "Up %d:%02d:%02d", up / 3600, up / 60 % 60, up % 60);
+  L.push_back(buf);
+}
+
+Overlay KioskApp::overlay(double now) const {
+  OverlayState s;
+  s.mode = states_.mode();
+  s.now = now;
+  s.width = composer_->width();
+  s.height = composer_->height();
+  s.bench = bench_.get();
+  s.title = attract_->empty() ? std::string() : attract_->title();
+  s.progress = attract_->empty() ? 0.0 : attract_->progress();
+  s.countdownLeft = states_.countdownLeft(now);
+  s.countdownTotal = config_.countdownSeconds;
+  s.staff = staff_;
+  return buildOverlay(s);
+}
+
+void KioskApp::present(double now, std::vector<Rect>& changed, bool modelChanged) {
+  if (!display_) return;
+  const Overlay o = overlay(now);
+  std::vector<Rect> dirty = mergeRects(changed);
+  if (firstPresent_) dirty = {Rect{0, 0, composer_->width(), composer_->height()}};
+  if (!display_->present(composer_->frame(), dirty, o)) {
+    if (!displayLost_ && log_) log_("display: '" + display_->name() + "' lost its output");
+    displayLost_ = true;
+    return;
+  }
+  firstPresent_ = false;
+  const double t = clock_();
+  lastPresent_ = t;
+  ++presents_;
+  fps_[states_.mode()].frame(t);
+  if (!changed.empty()) ++pictureUpdates_;
+  if (modelChanged) latency_.presented(t);
+}
+
+bool KioskApp::step() {
+  const double now = clock_();
+  fps_[states_.mode()].time(std::max(0.0, now - lastStep_));
+  lastStep_ = now;
+  changed_.clear();
+  const size_t queuedBefore = queue_.size();
+  pollInput(now);
+  bool input = queue_.size() != queuedBefore;
+  if (fast_) {
+    // As fast as possible, yet frame by frame where it matters: hovering runs straight through,
+    // and from the first touch on, one display frame's worth of the recording per step.
+    double firstTip = -1;
+    while (!queue_.empty()) {
+      const PenSample s = queue_.front().s;
+      if (firstTip >= 0 && s.time_s - firstTip >= kFrameSeconds) break;
+      queue_.pop_front();
+      handlePen(s, clock_(), now);
+      input = true;
+      if (s.tip && firstTip < 0) firstTip = s.time_s;
+    }
+  } else {
+    while (!queue_.empty()) {
+      const QueuedSample q = queue_.front();
+      queue_.pop_front();
+      handlePen(q.s, q.arrival, now);
+    }
+  }
+  states_.tick(now);
+  handleEvents(now);
+
+  const KioskMode m = states_.mode();
+  const bool showBench = m == KioskMode::Visitor || m == KioskMode::StillThere ||
+                         (m == KioskMode::Staff && states_.modeBeforeStaff() != KioskMode::Attract);
+  bool modelChanged = false;
+  if (showBench) {
+    bench_->update(now);
+    ViewChanges ch = bench_->takeChanges();
+    if (!benchShown_) ch.full = true;
+    benchShown_ = true;
+    modelChanged = ch.any();
+    composer_->show(bench_->model(), bench_->camera(), bench_->shading(), ch, bench_->moving());
+  } else if (!attract_->empty()) {
+    if (m == KioskMode::Attract) {  // paused under the staff screen
+      const size_t before = attract_->pieceIndex();
+      attract_->update(now);
+      if (attract_->pieceIndex() != before && log_) log_("attract: playing '" + attract_->title() + "'");
+    }
+    ViewChanges ch = attract_->takeChanges();
+    if (benchShown_) ch.full = true;
+    benchShown_ = false;
+    composer_->show(attract_->model(), attract_->camera(), attract_->shading(), ch, attract_->moving());
+  }
+  composer_->work(kBudgetMs, changed_);
+  const bool animated = m != KioskMode::Visitor;
+  if (!changed_.empty() || input || firstPresent_ || (animated && clock_() - lastPresent_ >= kAnimationPeriod))
+    present(clock_(), changed_, modelChanged && !changed_.empty());
+  if (m == KioskMode::Staff) updateStaffView(now);
+  if (sessions_->pendingCount() && now - lastRetry_ > 30.0) {
+    lastRetry_ = now;
+    sessions_->retryPending();
+  }
+  return !quit_;
+}
+
+void KioskApp::finish() {
+  const double now = clock_();
+  // Take what is still queued (a recording fed with --fast), then end any stroke.
+  while (!queue_.empty()) {
+    const QueuedSample q = queue_.front();
+    queue_.pop_front();
+    handlePen(q.s, fast_ ? clock_() : q.arrival, now);
+  }
+  const KioskMode m = states_.mode();
+  const bool visitor = m == KioskMode::Visitor || m == KioskMode::StillThere ||
+                       (m == KioskMode::Staff && states_.modeBeforeStaff() != KioskMode::Attract);
+  if (visitor) {
+    bench_->update(now + 60.0);  // a turn under way ends where it was going
+    saveSession("the kiosk is stopping");
+  }
+  std::vector<Rect> changed;
+  if (visitor) {
+    ViewChanges ch = bench_->takeChanges();
+    if (!benchShown_) ch.full = true;
+    benchShown_ = true;
+    composer_->show(bench_->model(), bench_->camera(), bench_->shading(), ch, false);
+  } else if (!attract_->empty()) {
+    ViewChanges ch = attract_->takeChanges();
+    if (benchShown_) ch.full = true;
+    benchShown_ = false;
+    composer_->show(attract_->model(), attract_->camera(), attract_->shading(), ch, false);
+  }
+  composer_->flush(changed);
+  changed.insert(changed.end(), changed_.begin(), changed_.end());
+  changed_.clear();
+  if (m == KioskMode::Staff) updateStaffView(now);
+  present(clock_(), changed, true);
+}
+
+Status KioskApp::writeSnapshot(const fs::path& path) {
+  Image shot = display_ ? display_->screenshot() : Image();
+  if (shot.width != composer_->width() || shot.height != composer_->height() || shot.rgba.empty()) {
+    shot = composer_->frame();
+    drawOverlayInto(shot, overlay(clock_()));
+  }
+  std::error_code ec;
+  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
+  return writePngAtomically(shot, path);
+}
+
+Status KioskApp::writeSession(const fs::path& path) {
+  std::string json;
+  if (bench_->model().activeCount() > 0) json = sceneToJson(bench_->scene("Visitor session"), &bench_->model());
+  else if (lastSessionJson_) json = *lastSessionJson_;
+  else json = sceneToJson(bench_->scene("Visitor session (nothing embossed)"), &bench_->model());
+  std::error_code ec;
+  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
+  return writeFileAtomically(path, json);
+}
+
+std::string KioskApp::statsReport() const {
+  std::string out;
+  char buf[256];
+  for (KioskMode m : {KioskMode::Attract, KioskMode::Visitor, KioskMode::StillThere, KioskMode::Staff}) {
+    const FpsMeter& f = fps(m);
+    if (f.seconds() <= 0 && f.frames() == 0) continue;
+    std::snprintf(buf, sizeof buf, "stats: %s: %zu frames in %.1f s = %.1f fps\n", kioskModeName(m), f.frames(), f.seconds(),
+                  f.meanFps());
+    out += buf;
+  }
+  if (latency_.count()) {
+    std::snprintf(buf, sizeof buf,
+                  "stats: stroke-to-screen latency: %zu updates, mean %.1f ms, median %.1f ms, 95%% %.1f ms, max %.1f ms\n",
+                  latency_.count(), latency_.meanMs(), latency_.percentileMs(50), latency_.percentileMs(95), latency_.maxMs());
+  } else {
+    std::snprintf(buf, sizeof buf, "stats: stroke-to-screen latency: no strokes\n");
+  }
+  out += buf;
+  const auto& c = composer_->counters();
+  std::snprintf(buf, sizeof buf,
+                "stats: tracing: %llu dirty rectangles (%llu pixels), %llu previews (last %.1f ms), %llu refinement bands, "
+                "%llu rays; %zu presents (%zu with new pixels)\n",
+                static_cast<unsigned long long>(c.dirtyRects), static_cast<unsigned long long>(c.dirtyPixels),
+                static_cast<unsigned long long>(c.previews), c.lastPreviewMs, static_cast<unsigned long long>(c.bands),
+                static_cast<unsigned long long>(c.render.rays), presents_, pictureUpdates_);
+  out += buf;
+  return out;
+}
+
+}  // namespace emboss

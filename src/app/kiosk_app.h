@@ -1,0 +1,145 @@
+// The kiosk: states, bench, attract loop, sessions and the frame, driven one main-loop step at a
+// time through the device interfaces (src/devices) only.
+#pragma once
+
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/attract_player.h"
+#include "app/frame_composer.h"
+#include "app/frame_meter.h"
+#include "app/kiosk_config.h"
+#include "app/kiosk_log.h"
+#include "app/kiosk_overlay.h"
+#include "app/kiosk_states.h"
+#include "app/session_store.h"
+#include "app/workbench.h"
+#include "devices/buttons.h"
+#include "devices/display.h"
+#include "devices/pen.h"
+
+namespace emboss {
+
+// How a pen's 0..1 coordinates reach the screen.
+enum class PenMapping {
+  Tablet,  // absolute onto the visible sheet, the tablet's aspect kept (a pressure tablet)
+  Screen,  // 1:1 onto the screen (the mouse over the window)
+};
+
+struct KioskStart {
+  bool staff = false;       // start in staff mode (--staff)
+  size_t attractPiece = 0;     // the first attract piece (index, wraps)
+  double attractDone = 0.35;  // and how far along it starts
+};
+
+// Not thread-safe: one main loop calls step(). Times come from `clock` (seconds, monotonic);
+// tests pass a fake one.
+class KioskApp {
+ public:
+  using Clock = std::function<double()>;
+
+  KioskApp(KioskConfig config, std::vector<AttractPiece> pieces, Display& display, KioskLog log, Clock clock,
+           KioskStart start = {});
+  ~KioskApp();
+
+  // The pen (null: none). With `fast`, a recording is fed as fast as the kiosk can take it: one
+  // display frame's worth of its samples per step, each stamped when taken.
+  void setPen(PenSource* pen, PenMapping mapping, bool fast = false);
+  void addButtons(ButtonSource* buttons);
+  // A display lost and re-created by main().
+  void setDisplay(Display& display);
+  // A line for the staff screen's device list ("tablet", "evdev: Wacom ..."), set by main().
+  void setDeviceNote(const std::string& key, const std::string& value);
+
+  // One main-loop iteration: input, states, views, tracing within a frame budget, presenting.
+  // Returns false once quitting was asked for (the keyboard's Escape in development).
+  bool step();
+  // True while there is work that should not wait (pending tracing, queued pen samples, a turn).
+  bool busy() const;
+  // The pen stopped answering (unplugged); main() may look for another and call setPen().
+  bool penLost() const { return penLost_; }
+  // A recording fed with fast has been played to its end and every sample taken.
+  bool feedDone() const;
+  bool displayLost() const { return displayLost_; }
+
+  // At exit: ends a stroke in progress, saves a visitor's session (nothing is lost on shutdown),
+  // finishes tracing and presents the last frame.
+  void finish();
+  // The last frame as on screen (overlay included), as a PNG written atomically.
+  Status writeSnapshot(const std::filesystem::path& path);
+  // The visitor's session as a scene file: the one in progress, else the last one saved this run,
+  // else a bare sheet.
+  Status writeSession(const std::filesystem::path& path);
+  // Frames per second per mode, stroke-to-screen latency, tracing counters.
+  std::string statsReport() const;
+
+  KioskMode mode() const { return states_.mode(); }
+  const Workbench& bench() const { return *bench_; }
+  const AttractPlayer& attract() const { return *attract_; }
+  const LatencyMeter& latency() const { return latency_; }
+  const FpsMeter& fps(KioskMode m) const;
+  const SessionStore& sessions() const { return *sessions_; }
+  const FrameComposer& composer() const { return *composer_; }
+  size_t presents() const { return presents_; }
+  // Staff mode's last message (export result, reset).
+  const std::string& staffMessage() const { return staff_.message; }
+  // Runs a staff menu entry by index (0 resume, 1 export, 2 reset), as a tap or press would.
+  void staffActivate(size_t index);
+
+ private:
+  struct QueuedSample {
+    PenSample s;
+    double arrival;
+  };
+  void pollInput(double now);
+  void handleButton(const ButtonEvent& e, double now);
+  void handlePen(const PenSample& s, double arrival, double now);
+  void handleEvents(double now);
+  void saveSession(const std::string& why);
+  void startAttract(double now, size_t index, double done);
+  void updateStaffView(double now);
+  void present(double now, std::vector<Rect>& changed, bool modelChanged);
+  Overlay overlay(double now) const;
+
+  KioskConfig config_;
+  Display* display_;
+  KioskLog log_;
+  Clock clock_;
+  std::unique_ptr<ThreadPool> pool_;
+  std::unique_ptr<FrameComposer> composer_;
+  std::unique_ptr<Workbench> bench_;
+  std::unique_ptr<AttractPlayer> attract_;
+  std::unique_ptr<SessionStore> sessions_;
+  KioskStates states_;
+
+  PenSource* pen_ = nullptr;
+  PenMapping mapping_ = PenMapping::Tablet;
+  bool fast_ = false;
+  bool penLost_ = false;
+  bool displayLost_ = false;
+  std::deque<QueuedSample> queue_;
+  bool lastTip_ = false, lastBarrel1_ = false, lastBarrel2_ = false;
+  std::vector<ButtonSource*> buttons_;
+  std::map<std::string, std::string> deviceNotes_;
+
+  bool quit_ = false;
+  bool benchShown_ = false;  // the composer shows the bench (else the attract piece)
+  double started_ = 0, lastStep_ = 0, lastPresent_ = -1, lastRetry_ = 0, sessionStarted_ = 0;
+  std::uint64_t lastCommitted_ = 0;
+  size_t presents_ = 0;
+  bool firstPresent_ = true;
+  std::optional<std::string> lastSessionJson_;
+  LatencyMeter latency_;
+  std::map<KioskMode, FpsMeter> fps_;
+  size_t pictureUpdates_ = 0;
+  StaffView staff_;
+  std::vector<Rect> changed_;
+};
+
+}  // namespace emboss

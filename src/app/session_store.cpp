@@ -1,0 +1,159 @@
+// Saving and exporting visitors' sessions, atomically and without ever losing one.
+#include "app/session_store.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+
+namespace emboss {
+
+namespace fs = std::filesystem;
+
+std::string fileStamp() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y%m%d-%H%M%S", &tm);
+  return buf;
+}
+
+Status writePngAtomically(const Image& image, const fs::path& path) {
+  const fs::path tmp = path.string() + ".part";
+  Status s = writePng(image, tmp);
+  if (!s) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    return s;
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    return fail("cannot write '" + path.string() + "': " + ec.message());
+  }
+  return Ok{};
+}
+
+SessionStore::SessionStore(fs::path dir, KioskLog log) : dir_(std::move(dir)), log_(std::move(log)) {}
+
+std::string SessionStore::freeStem(const std::string& stamp) const {
+  std::string stem = "session-" + stamp;
+  std::error_code ec;
+  for (int n = 2; fs::exists(dir_ / (stem + ".json"), ec) || std::any_of(pending_.begin(), pending_.end(), [&](const Pending& p) {
+                    return p.stem == stem;
+                  });
+       ++n)
+    stem = "session-" + stamp + "-" + std::to_string(n);
+  return stem;
+}
+
+Status SessionStore::write(const Pending& p) {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec && !fs::is_directory(dir_)) return fail("cannot create '" + dir_.string() + "': " + ec.message());
+  // The picture first: a scene file present means the session is complete.
+  if (p.picture) {
+    Status s = writePngAtomically(*p.picture, dir_ / (p.stem + ".png"));
+    if (!s) return s;
+  }
+  return writeFileAtomically(dir_ / (p.stem + ".json"), p.json);
+}
+
+Result<fs::path> SessionStore::save(const Scene& scene, const Model& model, const Image* picture, const std::string& stamp) {
+  Pending p{freeStem(stamp), sceneToJson(scene, &model), picture ? std::optional<Image>(*picture) : std::nullopt};
+  Status s = write(p);
+  const fs::path path = dir_ / (p.stem + ".json");
+  if (!s) {
+    if (log_ && s.error() != lastError_)
+      log_("session: " + s.error() + "; keeping the session (" + std::to_string(model.activeCount()) +
+           " operations) in memory and trying again");
+    lastError_ = s.error();
+    pending_.push_back(std::move(p));
+    return fail(s.error());
+  }
+  ++saved_;
+  lastError_.clear();
+  if (log_) log_("session: saved " + path.string() + " (" + std::to_string(model.activeCount()) + " operations)");
+  return path;
+}
+
+size_t SessionStore::retryPending() {
+  while (!pending_.empty()) {
+    Status s = write(pending_.front());
+    if (!s) break;
+    ++saved_;
+    if (log_) log_("session: saved " + (dir_ / (pending_.front().stem + ".json")).string() + " (after a retry)");
+    pending_.erase(pending_.begin());
+    lastError_.clear();
+  }
+  return pending_.size();
+}
+
+std::vector<fs::path> SessionStore::list() const {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir_, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path p = it->path();
+    const std::string name = p.filename().string();
+    if (p.extension() == ".json" && name.rfind("session-", 0) == 0) out.push_back(p);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& target, const std::string& stamp,
+                                                            const std::optional<Extra>& current,
+                                                            const SpaceProbe& spaceIn) const {
+  std::error_code ec;
+  if (!fs::is_directory(target, ec))
+    return fail("export: '" + target.string() + "' is not a folder (is the USB stick in?)");
+  // What to copy: every saved session's scene file and picture.
+  std::vector<fs::path> files;
+  std::uintmax_t need = current ? current->json.size() + (current->picture ? current->picture->rgba.size() : 0) : 0;
+  for (const auto& scene : list()) {
+    files.push_back(scene);
+    fs::path png = scene;
+    png.replace_extension(".png");
+    if (fs::exists(png, ec)) files.push_back(png);
+  }
+  for (const auto& f : files) need += fs::file_size(f, ec) + 4096;
+  need += 1 << 20;  // headroom for the file system's own records
+  const SpaceProbe space = spaceIn ? spaceIn : [](const fs::path& p) -> std::optional<std::uintmax_t> {
+    std::error_code e;
+    const auto s = fs::space(p, e);
+    if (e) return std::nullopt;
+    return s.available;
+  };
+  if (const auto avail = space(target); avail && *avail < need)
+    return fail("export: not enough space on '" + target.string() + "': " + std::to_string(need / 1024) +
+                " KiB needed, " + std::to_string(*avail / 1024) + " KiB free; nothing was copied");
+  ExportSummary sum;
+  sum.folder = target / ("emboss-sessions-" + stamp);
+  fs::create_directories(sum.folder, ec);
+  if (ec) return fail("export: cannot create '" + sum.folder.string() + "': " + ec.message());
+  for (const auto& f : files) {
+    std::ifstream in(f, std::ios::binary);
+    if (!in) return fail("export: cannot read '" + f.string() + "': " + std::strerror(errno) + " (" + std::to_string(sum.files) + " files copied)");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string bytes = ss.str();
+    Status s = writeFileAtomically(sum.folder / f.filename(), bytes);
+    if (!s) return fail("export: " + s.error() + " after " + std::to_string(sum.files) + " of " + std::to_string(files.size()) + " files");
+    ++sum.files;
+    sum.bytes += bytes.size();
+  }
+  if (current) {
+    Status s = writeFileAtomically(sum.folder / ("current-" + stamp + ".json"), current->json);
+    if (s && current->picture) s = writePngAtomically(*current->picture, sum.folder / ("current-" + stamp + ".png"));
+    if (!s) return fail("export: " + s.error() + " (the " + std::to_string(sum.files) + " saved files were copied)");
+    sum.files += current->picture ? 2 : 1;
+    sum.bytes += current->json.size();
+  }
+  return sum;
+}
+
+}  // namespace emboss

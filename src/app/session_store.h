@@ -1,0 +1,76 @@
+// Visitors' sessions on disk: saved atomically (scene file + picture), never lost, exported by staff.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/kiosk_log.h"
+#include "render/image.h"
+#include "scene/scene.h"
+
+namespace emboss {
+
+class SessionStore {
+ public:
+  // Free bytes at a path (std::filesystem::space by default; tests pass their own).
+  using SpaceProbe = std::function<std::optional<std::uintmax_t>(const std::filesystem::path&)>;
+
+  SessionStore(std::filesystem::path dir, KioskLog log);
+
+  const std::filesystem::path& dir() const { return dir_; }
+
+  // Saves `scene` with `model`'s active operations as DIR/session-STAMP.json, and `picture` (when
+  // given) as DIR/session-STAMP.png, each through a temporary file and a rename. When the disk
+  // refuses, the session stays in memory, the failure is logged once, and retryPending() tries
+  // again; nothing a visitor made is dropped while the kiosk runs. Returns the scene file's path.
+  Result<std::filesystem::path> save(const Scene& scene, const Model& model, const Image* picture, const std::string& stamp);
+  // Writes sessions kept in memory after a failure. Returns how many are still waiting.
+  size_t retryPending();
+  size_t pendingCount() const { return pending_.size(); }
+  size_t savedCount() const { return saved_; }
+
+  // Every saved session's scene file, oldest first.
+  std::vector<std::filesystem::path> list() const;
+
+  struct Extra {  // the session in progress, exported without being saved as a finished one
+    std::string json;
+    const Image* picture = nullptr;
+  };
+  struct ExportSummary {
+    std::filesystem::path folder;
+    size_t files = 0;
+    std::uintmax_t bytes = 0;
+  };
+  // Copies every saved session (scene files and pictures), plus `current`, into a new folder
+  // TARGET/emboss-sessions-STAMP. Checks the free space first; fails with a message that says how
+  // much is needed and free, or which file could not be written. The sessions themselves are
+  // never touched.
+  Result<ExportSummary> exportAll(const std::filesystem::path& target, const std::string& stamp,
+                                  const std::optional<Extra>& current, const SpaceProbe& space = {}) const;
+
+ private:
+  struct Pending {
+    std::string stem;
+    std::string json;
+    std::optional<Image> picture;
+  };
+  Status write(const Pending& p);
+  std::string freeStem(const std::string& stamp) const;
+
+  std::filesystem::path dir_;
+  KioskLog log_;
+  std::vector<Pending> pending_;
+  size_t saved_ = 0;
+  std::string lastError_;
+};
+
+// A file stamp for now, local time: 20250314-153012.
+std::string fileStamp();
+// PNG written through a temporary file and a rename.
+Status writePngAtomically(const Image& image, const std::filesystem::path& path);
+
+}  // namespace emboss

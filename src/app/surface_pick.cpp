@@ -1,0 +1,101 @@
+// Ray picking on the F-rep model and the mapping of the tablet onto the visible sheet.
+#include "app/surface_pick.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace emboss {
+
+namespace {
+
+// The part [t0, t1] of the ray inside box b, if any.
+bool clipToBox(const Ray& r, const Box3& b, double& t0, double& t1) {
+  t0 = 0, t1 = std::numeric_limits<double>::infinity();
+  const double o[3] = {r.origin.x, r.origin.y, r.origin.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
+  const double lo[3] = {b.x0, b.y0, b.z0}, hi[3] = {b.x1, b.y1, b.z1};
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-15) {
+      if (o[i] < lo[i] || o[i] > hi[i]) return false;
+      continue;
+    }
+    double a = (lo[i] - o[i]) / d[i], c = (hi[i] - o[i]) / d[i];
+    if (a > c) std::swap(a, c);
+    t0 = std::max(t0, a), t1 = std::min(t1, c);
+  }
+  return t0 <= t1;
+}
+
+}  // namespace
+
+std::optional<glm::dvec3> pickSurface(const Model& model, const Camera& camera, double sx, double sy) {
+  const Ray ray = camera.rayAt(sx, sy);
+  Box3 b = model.bounds();
+  b.x0 -= 1, b.y0 -= 1, b.z0 -= 1, b.x1 += 1, b.y1 += 1, b.z1 += 1;
+  double t0, t1;
+  if (!clipToBox(ray, b, t0, t1)) return std::nullopt;
+  const glm::dvec3 a = ray.origin + ray.dir * t0, e = ray.origin + ray.dir * t1;
+  const Box2 foot{std::min(a.x, e.x), std::min(a.y, e.y), std::max(a.x, e.x), std::max(a.y, e.y)};
+  std::vector<std::uint32_t> candidates;
+  const auto& ops = model.operations();
+  for (size_t i = 0; i < model.activeCount(); ++i)
+    if (ops[i].support().overlaps(foot)) candidates.push_back(static_cast<std::uint32_t>(i));
+  auto f = [&](double t) {
+    const glm::dvec3 p = ray.origin + ray.dir * t;
+    return model.evaluate(P3<double>{p.x, p.y, p.z}, std::span<const std::uint32_t>(candidates));
+  };
+  // A step well under the sheet's thickness, so a ray cannot step over the sheet.
+  const double h = std::clamp(0.35 * model.workpiece().halfThickness(), 0.02, 0.25);
+  double prevT = t0, prevF = f(t0);
+  if (prevF >= 0) {
+    const glm::dvec3 p = ray.origin + ray.dir * t0;
+    return p;
+  }
+  for (double t = t0 + h;; t += h) {
+    const double tt = std::min(t, t1);
+    const double v = f(tt);
+    if (v >= 0) {
+      double lo = prevT, hi = tt;
+      for (int i = 0; i < 40; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        if (f(mid) >= 0) hi = mid; else lo = mid;
+      }
+      return ray.origin + ray.dir * hi;
+    }
+    prevT = tt, prevF = v;
+    if (tt >= t1) break;
+  }
+  return std::nullopt;
+}
+
+double projectedRadius(const Camera& camera, const glm::dvec3& p, double radiusMm) {
+  const auto c = camera.project(p);
+  if (!c) return 0.0;
+  double r = 0.0;
+  for (const glm::dvec3 d : {glm::dvec3(radiusMm, 0, 0), glm::dvec3(0, radiusMm, 0)}) {
+    const auto q = camera.project(p + d);
+    if (q) r = std::max(r, glm::length(*q - *c));
+  }
+  return r;
+}
+
+ScreenBox sheetOnScreen(const Camera& camera, const Box3& wb) {
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  for (double x : {wb.x0, wb.x1})
+    for (double y : {wb.y0, wb.y1}) {
+      const auto q = camera.project({x, y, wb.z1});
+      if (!q) continue;
+      x0 = std::min(x0, q->x), y0 = std::min(y0, q->y), x1 = std::max(x1, q->x), y1 = std::max(y1, q->y);
+    }
+  if (x0 > x1) return {0, 0, static_cast<double>(camera.width()), static_cast<double>(camera.height())};
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+ScreenBox tabletArea(const ScreenBox& s, double aspect, double margin) {
+  double w = s.w * (1 + 2 * margin), h = s.h * (1 + 2 * margin);
+  if (aspect <= 0) aspect = 1.6;
+  if (w / h < aspect) w = h * aspect; else h = w / aspect;
+  return {s.x + 0.5 * s.w - 0.5 * w, s.y + 0.5 * s.h - 0.5 * h, w, h};
+}
+
+}  // namespace emboss

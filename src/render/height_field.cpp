@@ -1,0 +1,308 @@
+// The displacement field: lattice, incremental updates, Hermite interpolation and the bound pyramid.
+#include "render/height_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace emboss {
+
+namespace {
+
+// Cubic Hermite basis on [0, 1]: h0, h1 weigh the end values, g0, g1 the end slopes (times the
+// cell length); d* are their derivatives.
+struct Basis {
+  double h0, h1, g0, g1;
+};
+inline Basis basis(double u) {
+  const double u2 = u * u;
+  return {(2.0 * u - 3.0) * u2 + 1.0, (3.0 - 2.0 * u) * u2, ((u - 2.0) * u + 1.0) * u, (u - 1.0) * u2};
+}
+inline Basis basisDerivative(double u) {
+  const double d0 = 6.0 * u * (u - 1.0);
+  return {d0, -d0, (3.0 * u - 4.0) * u + 1.0, (3.0 * u - 2.0) * u};
+}
+
+float roundDown(double v) {
+  const float f = static_cast<float>(v);
+  return std::nextafter(f, -std::numeric_limits<float>::infinity());
+}
+float roundUp(double v) {
+  const float f = static_cast<float>(v);
+  return std::nextafter(f, std::numeric_limits<float>::infinity());
+}
+
+}  // namespace
+
+void HeightField::configure(const Box2& domain, double spacing) {
+  s_ = spacing;
+  invS_ = 1.0 / spacing;
+  x0_ = domain.x0;
+  y0_ = domain.y0;
+  nx_ = std::max(2, static_cast<int>(std::ceil((domain.x1 - domain.x0) * invS_)) + 1);
+  ny_ = std::max(2, static_cast<int>(std::ceil((domain.y1 - domain.y0) * invS_)) + 1);
+  xMax_ = x0_ + (nx_ - 1) * s_;
+  yMax_ = y0_ + (ny_ - 1) * s_;
+  samples_.assign(static_cast<size_t>(nx_) * ny_, Sample{});
+  levels_.clear();
+  int w = (nx_ - 1 + kBlock - 1) / kBlock, h = (ny_ - 1 + kBlock - 1) / kBlock;
+  for (;;) {
+    Level l;
+    l.w = w, l.h = h;
+    l.nodes.assign(static_cast<size_t>(w) * h, Node{0, 0, 0, 0, 0, 0});
+    levels_.push_back(std::move(l));
+    if (w == 1 && h == 1) break;
+    w = (w + 1) / 2, h = (h + 1) / 2;
+  }
+}
+
+void HeightField::clear() {
+  nx_ = ny_ = 0;
+  samples_.clear();
+  samples_.shrink_to_fit();
+  levels_.clear();
+}
+
+size_t HeightField::memoryBytes() const {
+  size_t n = samples_.size() * sizeof(Sample);
+  for (const auto& l : levels_) n += l.nodes.size() * sizeof(Node);
+  return n;
+}
+
+HeightField::SampleRect HeightField::samplesIn(const Box2& b) const {
+  if (b.empty() || !configured()) return {};
+  const double fi0 = std::ceil((b.x0 - x0_) * invS_), fi1 = std::floor((b.x1 - x0_) * invS_);
+  const double fj0 = std::ceil((b.y0 - y0_) * invS_), fj1 = std::floor((b.y1 - y0_) * invS_);
+  if (fi1 < 0 || fj1 < 0 || fi0 > nx_ - 1 || fj0 > ny_ - 1) return {};
+  SampleRect r;
+  r.i0 = static_cast<int>(std::max(fi0, 0.0));
+  r.j0 = static_cast<int>(std::max(fj0, 0.0));
+  r.i1 = static_cast<int>(std::min(fi1, static_cast<double>(nx_ - 1)));
+  r.j1 = static_cast<int>(std::min(fj1, static_cast<double>(ny_ - 1)));
+  return r;
+}
+
+HeightField::SampleRect HeightField::intersect(const SampleRect& a, const SampleRect& b) {
+  return {std::max(a.i0, b.i0), std::max(a.j0, b.j0), std::min(a.i1, b.i1), std::min(a.j1, b.j1)};
+}
+
+HeightField::SampleRect HeightField::grow(const SampleRect& r, int n) {
+  return {r.i0 - n, r.j0 - n, r.i1 + n, r.j1 + n};
+}
+
+HeightField::SampleRect HeightField::clamp(const SampleRect& r) const { return intersect(r, all()); }
+
+void HeightField::addTo(const PreparedOp& op, const SampleRect& r) {
+  for (int j = r.j0; j <= r.j1; ++j) {
+    const Grad y(sampleY(j), 0.0, 1.0, 0.0);
+    Sample* row = &samples_[static_cast<size_t>(j) * nx_];
+    for (int i = r.i0; i <= r.i1; ++i) {
+      // The sheet's offsets do not depend on z.
+      const Grad g = op.offset(P3<Grad>{Grad(sampleX(i), 1.0, 0.0, 0.0), y, Grad(0.0)}, Deformation::Sheet);
+      Sample& s = row[i];
+      s.d = static_cast<float>(static_cast<double>(s.d) + g.v);
+      s.dx = static_cast<float>(static_cast<double>(s.dx) + g.dx);
+      s.dy = static_cast<float>(static_cast<double>(s.dy) + g.dy);
+    }
+  }
+}
+
+namespace {
+// Runs f over bands of rows of r, on the pool when it is worth it.
+template <class F>
+void forBands(const HeightField::SampleRect& r, ThreadPool* pool, int minRows, F f) {
+  const int rows = r.j1 - r.j0 + 1;
+  if (!pool || pool->size() < 2 || rows < 2 * minRows || r.count() < 4096) {
+    f(r);
+    return;
+  }
+  const int band = std::max(minRows, rows / (4 * pool->size()));
+  pool->parallelFor2D(Rect{0, r.j0, 1, rows}, band, [&](const Rect& t) {
+    f(HeightField::SampleRect{r.i0, t.y, r.i1, t.y + t.h - 1});
+  });
+}
+}  // namespace
+
+void HeightField::add(const PreparedOp& op, ThreadPool* pool) {
+  if (!op.op().isOffset()) return;
+  const SampleRect r = samplesIn(op.support());
+  if (!r.empty()) forBands(r, pool, 4, [&](const SampleRect& b) { addTo(op, b); });
+}
+
+void HeightField::recompute(const SampleRect& rIn, std::span<const PreparedOp* const> ops) {
+  const SampleRect r = clamp(rIn);
+  if (r.empty()) return;
+  for (int j = r.j0; j <= r.j1; ++j)
+    for (int i = r.i0; i <= r.i1; ++i) at(i, j) = Sample{};
+  for (const PreparedOp* op : ops) {
+    if (!op->op().isOffset()) continue;
+    const SampleRect s = intersect(samplesIn(op->support()), r);
+    if (!s.empty()) addTo(*op, s);
+  }
+}
+
+void HeightField::updateTwist(const SampleRect& r) {
+  for (int j = r.j0; j <= r.j1; ++j) {
+    const int jm = std::max(j - 1, 0), jp = std::min(j + 1, ny_ - 1);
+    for (int i = r.i0; i <= r.i1; ++i) {
+      const int im = std::max(i - 1, 0), ip = std::min(i + 1, nx_ - 1);
+      const double dxy = (static_cast<double>(at(i, jp).dx) - at(i, jm).dx) / ((jp - jm) * s_);
+      const double dyx = (static_cast<double>(at(ip, j).dy) - at(im, j).dy) / ((ip - im) * s_);
+      at(i, j).dxy = static_cast<float>(0.5 * (dxy + dyx));
+    }
+  }
+}
+
+void HeightField::updateLeaves(int la0, int lb0, int la1, int lb1) {
+  Level& l = levels_[0];
+  const double s = s_;
+  for (int lb = lb0; lb <= lb1; ++lb)
+    for (int la = la0; la <= la1; ++la) {
+      const int i0 = la * kBlock, i1 = std::min(i0 + kBlock, nx_ - 1);
+      const int j0 = lb * kBlock, j1 = std::min(j0 + kBlock, ny_ - 1);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      double uLo = lo, uHi = hi, vLo = lo, vHi = hi;
+      for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i) {
+          // The patch's Bezier net b[u][v]: each corner's value, plus or minus a third of its
+          // scaled slopes, and a ninth of its scaled twist.
+          double b[4][4];
+          const Sample* c[2][2] = {{&at(i, j), &at(i, j + 1)}, {&at(i + 1, j), &at(i + 1, j + 1)}};
+          for (int cu = 0; cu < 2; ++cu)
+            for (int cv = 0; cv < 2; ++cv) {
+              const Sample& k = *c[cu][cv];
+              const double su = cu ? -1.0 : 1.0, sv = cv ? -1.0 : 1.0;
+              const double x = su * s * k.dx / 3.0, y = sv * s * k.dy / 3.0, t = su * sv * s * s * k.dxy / 9.0;
+              const int u = cu * 3, v = cv * 3, un = cu ? 2 : 1, vn = cv ? 2 : 1;
+              b[u][v] = k.d;
+              b[un][v] = k.d + x;
+              b[u][vn] = k.d + y;
+              b[un][vn] = k.d + x + y + t;
+            }
+          for (int u = 0; u < 4; ++u)
+            for (int v = 0; v < 4; ++v) {
+              lo = std::min(lo, b[u][v]), hi = std::max(hi, b[u][v]);
+              if (u < 3) {
+                const double du = 3.0 * (b[u + 1][v] - b[u][v]);
+                uLo = std::min(uLo, du), uHi = std::max(uHi, du);
+              }
+              if (v < 3) {
+                const double dv = 3.0 * (b[u][v + 1] - b[u][v]);
+                vLo = std::min(vLo, dv), vHi = std::max(vHi, dv);
+              }
+            }
+        }
+      // The patch and its derivatives lie in the convex hulls of their Bezier nets; a small
+      // margin covers the rounding of the evaluation.
+      const double m = 1e-7 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
+      const double gm = 1e-6 * (1.0 + std::max({std::abs(uLo), std::abs(uHi), std::abs(vLo), std::abs(vHi)}));
+      Node& n = l.nodes[static_cast<size_t>(lb) * l.w + la];
+      n.lo = roundDown(lo - m);
+      n.hi = roundUp(hi + m);
+      n.gxlo = roundDown((uLo - gm) * invS_);
+      n.gxhi = roundUp((uHi + gm) * invS_);
+      n.gylo = roundDown((vLo - gm) * invS_);
+      n.gyhi = roundUp((vHi + gm) * invS_);
+    }
+}
+
+void HeightField::updateLevels(int la0, int lb0, int la1, int lb1) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  for (size_t k = 1; k < levels_.size(); ++k) {
+    la0 >>= 1, lb0 >>= 1, la1 >>= 1, lb1 >>= 1;
+    const Level& c = levels_[k - 1];
+    Level& l = levels_[k];
+    for (int b = lb0; b <= lb1; ++b)
+      for (int a = la0; a <= la1; ++a) {
+        Node n{inf, -inf, inf, -inf, inf, -inf};
+        for (int cb = 2 * b; cb <= std::min(2 * b + 1, c.h - 1); ++cb)
+          for (int ca = 2 * a; ca <= std::min(2 * a + 1, c.w - 1); ++ca) {
+            const Node& m = c.nodes[static_cast<size_t>(cb) * c.w + ca];
+            n.lo = std::min(n.lo, m.lo), n.hi = std::max(n.hi, m.hi);
+            n.gxlo = std::min(n.gxlo, m.gxlo), n.gxhi = std::max(n.gxhi, m.gxhi);
+            n.gylo = std::min(n.gylo, m.gylo), n.gyhi = std::max(n.gyhi, m.gyhi);
+          }
+        l.nodes[static_cast<size_t>(b) * l.w + a] = n;
+      }
+  }
+}
+
+void HeightField::finish(const SampleRect& rIn, ThreadPool* pool) {
+  const SampleRect r = clamp(rIn);
+  if (r.empty()) return;
+  // Twists use the slopes one sample away; a leaf's bounds read the samples on its edges.
+  const SampleRect t = clamp(grow(r, 1));
+  forBands(t, pool, 4, [&](const SampleRect& b) { updateTwist(b); });
+  const Level& l = levels_[0];
+  const int la0 = std::max(0, (t.i0 - 1) / kBlock), lb0 = std::max(0, (t.j0 - 1) / kBlock);
+  const int la1 = std::min(l.w - 1, t.i1 / kBlock), lb1 = std::min(l.h - 1, t.j1 / kBlock);
+  // Leaves by rows of leaves (disjoint nodes).
+  forBands(SampleRect{la0, lb0, la1, lb1}, (la1 - la0 + 1) * (lb1 - lb0 + 1) >= 64 ? pool : nullptr, 1,
+           [&](const SampleRect& b) { updateLeaves(b.i0, b.j0, b.i1, b.j1); });
+  updateLevels(la0, lb0, la1, lb1);
+}
+
+// Scalar on purpose: four-lane vector types (GCC/Clang vector extensions) measured no faster
+// here -- the patch is 16 values and the cost is in the loads (docs/performance.md).
+double HeightField::value(double x, double y) const {
+  const double fx = (x - x0_) * invS_, fy = (y - y0_) * invS_;
+  const int i = std::clamp(static_cast<int>(fx), 0, nx_ - 2), j = std::clamp(static_cast<int>(fy), 0, ny_ - 2);
+  const Basis bu = basis(fx - i), bv = basis(fy - j);
+  const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
+  const Sample* r1 = r0 + nx_;
+  const double s = s_;
+  const double a0 = bu.h0 * r0[0].d + bu.h1 * r0[1].d + s * (bu.g0 * r0[0].dx + bu.g1 * r0[1].dx);
+  const double a1 = bu.h0 * r1[0].d + bu.h1 * r1[1].d + s * (bu.g0 * r1[0].dx + bu.g1 * r1[1].dx);
+  const double b0 = bu.h0 * r0[0].dy + bu.h1 * r0[1].dy + s * (bu.g0 * r0[0].dxy + bu.g1 * r0[1].dxy);
+  const double b1 = bu.h0 * r1[0].dy + bu.h1 * r1[1].dy + s * (bu.g0 * r1[0].dxy + bu.g1 * r1[1].dxy);
+  return bv.h0 * a0 + bv.h1 * a1 + s * (bv.g0 * b0 + bv.g1 * b1);
+}
+
+void HeightField::valueAndGradient(double x, double y, double& v, double& gx, double& gy) const {
+  const double fx = (x - x0_) * invS_, fy = (y - y0_) * invS_;
+  const int i = std::clamp(static_cast<int>(fx), 0, nx_ - 2), j = std::clamp(static_cast<int>(fy), 0, ny_ - 2);
+  const Basis bu = basis(fx - i), bv = basis(fy - j);
+  const Basis du = basisDerivative(fx - i), dv = basisDerivative(fy - j);
+  const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
+  const Sample* r1 = r0 + nx_;
+  const double s = s_;
+  auto rowD = [&](const Basis& b, const Sample* r) { return b.h0 * r[0].d + b.h1 * r[1].d + s * (b.g0 * r[0].dx + b.g1 * r[1].dx); };
+  auto rowY = [&](const Basis& b, const Sample* r) { return b.h0 * r[0].dy + b.h1 * r[1].dy + s * (b.g0 * r[0].dxy + b.g1 * r[1].dxy); };
+  const double a0 = rowD(bu, r0), a1 = rowD(bu, r1), b0 = rowY(bu, r0), b1 = rowY(bu, r1);
+  v = bv.h0 * a0 + bv.h1 * a1 + s * (bv.g0 * b0 + bv.g1 * b1);
+  gy = (dv.h0 * a0 + dv.h1 * a1 + s * (dv.g0 * b0 + dv.g1 * b1)) * invS_;
+  const double c0 = rowD(du, r0), c1 = rowD(du, r1), e0 = rowY(du, r0), e1 = rowY(du, r1);
+  gx = (bv.h0 * c0 + bv.h1 * c1 + s * (bv.g0 * e0 + bv.g1 * e1)) * invS_;
+}
+
+HeightField::Bound HeightField::bound(const Box2& b) const {
+  static_assert(kBlock == 8, "leaf indices are cell indices shifted by 3");
+  int a0 = std::clamp(static_cast<int>((b.x0 - x0_) * invS_), 0, nx_ - 2) >> 3;
+  int a1 = std::clamp(static_cast<int>((b.x1 - x0_) * invS_), 0, nx_ - 2) >> 3;
+  int b0 = std::clamp(static_cast<int>((b.y0 - y0_) * invS_), 0, ny_ - 2) >> 3;
+  int b1 = std::clamp(static_cast<int>((b.y1 - y0_) * invS_), 0, ny_ - 2) >> 3;
+  size_t k = 0;
+  while ((a1 - a0 > 1 || b1 - b0 > 1) && k + 1 < levels_.size()) {
+    a0 >>= 1, a1 >>= 1, b0 >>= 1, b1 >>= 1;
+    ++k;
+  }
+  const Level& l = levels_[k];
+  // At most 2 x 2 nodes; a missing second column or row repeats the first.
+  const Node& n00 = l.nodes[static_cast<size_t>(b0) * l.w + a0];
+  const Node& n10 = l.nodes[static_cast<size_t>(b0) * l.w + a1];
+  const Node& n01 = l.nodes[static_cast<size_t>(b1) * l.w + a0];
+  const Node& n11 = l.nodes[static_cast<size_t>(b1) * l.w + a1];
+  auto mn = [](float p, float q, float r, float t) { return std::min(std::min(p, q), std::min(r, t)); };
+  auto mx = [](float p, float q, float r, float t) { return std::max(std::max(p, q), std::max(r, t)); };
+  return {mn(n00.lo, n10.lo, n01.lo, n11.lo),       mx(n00.hi, n10.hi, n01.hi, n11.hi),
+          mn(n00.gxlo, n10.gxlo, n01.gxlo, n11.gxlo), mx(n00.gxhi, n10.gxhi, n01.gxhi, n11.gxhi),
+          mn(n00.gylo, n10.gylo, n01.gylo, n11.gylo), mx(n00.gyhi, n10.gyhi, n01.gyhi, n11.gyhi)};
+}
+
+HeightField::Bound HeightField::rootBound() const {
+  const Node& n = levels_.back().nodes[0];
+  return {n.lo, n.hi, n.gxlo, n.gxhi, n.gylo, n.gyhi};
+}
+
+}  // namespace emboss

@@ -1,0 +1,118 @@
+// The renderer's cache of the sheet's displacement D(x, y): fine samples, C1 interpolation, bounds.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "frep/box.h"
+#include "frep/operation.h"
+#include "render/thread_pool.h"
+
+namespace emboss {
+
+// In the sheet model every offset moves the sheet along z by a function of (x, y) alone, and the
+// model is f(P) = W(x, y, z - D(x, y)) (with the set operations on top), D being the sum of the
+// active offsets. D changes only under a new stroke's support, so the renderer keeps it here
+// instead of summing tens of kernels at every step of every ray (docs/rendering.md).
+//
+// Samples lie on a lattice x_i = x0 + i s, y_j = y0 + j s fixed by the workpiece alone. Each holds
+// D, dD/dx and dD/dy summed in float from the exact kernels (PreparedOp::offset over Grad), in
+// operation index order starting from 0, and a twist d2D/dxdy by central differences of the
+// stored slopes. Between samples D is the bicubic Hermite patch of those four values per corner:
+// C1, exact for cubics, error O(s^4) in value and O(s^3) in slope (measured in
+// tests/render/height_field_test.cpp, documented in docs/rendering.md).
+//
+// Bit-exactness: a sample's bits depend only on its position and on the active offsets whose
+// support contains it, summed in index order, whether it was filled by a full build, by
+// appending operations one at a time (add()), or recomputed from scratch after an undo
+// (recompute()). The bounds -- a min/max pyramid over blocks of 8 x 8 cells of the value and of
+// both slopes, each cell bounded by the convex hull of its patch's Bezier net -- are
+// conservative and only ever used to skip work.
+//
+// Not thread-safe against its own updates; the const queries may run concurrently.
+class HeightField {
+ public:
+  // Rectangle of sample indices, inclusive.
+  struct SampleRect {
+    int i0 = 0, j0 = 0, i1 = -1, j1 = -1;
+    bool empty() const { return i1 < i0 || j1 < j0; }
+    long count() const { return empty() ? 0 : static_cast<long>(i1 - i0 + 1) * (j1 - j0 + 1); }
+  };
+  // Conservative bounds of the interpolated D and of its slopes over a box.
+  struct Bound {
+    double lo = 0, hi = 0;      // D
+    double gxlo = 0, gxhi = 0;  // dD/dx
+    double gylo = 0, gyhi = 0;  // dD/dy
+  };
+
+  static constexpr int kBlock = 8;  // cells per pyramid leaf, each way
+
+  // Sets up an all-zero lattice of spacing `spacing` covering `domain`, its origin at the domain's
+  // lower corner (so it depends on nothing but the domain).
+  void configure(const Box2& domain, double spacing);
+  void clear();
+  bool configured() const { return nx_ > 0; }
+
+  double spacing() const { return s_; }
+  int nx() const { return nx_; }
+  int ny() const { return ny_; }
+  double sampleX(int i) const { return x0_ + i * s_; }
+  double sampleY(int j) const { return y0_ + j * s_; }
+  size_t memoryBytes() const;
+  // The box the interpolation covers: D is defined (by the field) inside it.
+  Box2 domain() const { return {x0_, y0_, x0_ + (nx_ - 1) * s_, y0_ + (ny_ - 1) * s_}; }
+  bool contains(double x, double y) const { return x >= x0_ && y >= y0_ && x <= xMax_ && y <= yMax_; }
+  bool containsBox(const Box2& b) const { return b.x0 >= x0_ && b.y0 >= y0_ && b.x1 <= xMax_ && b.y1 <= yMax_; }
+  SampleRect all() const { return {0, 0, nx_ - 1, ny_ - 1}; }
+
+  // The samples inside a box (the same rule for every caller, so an operation always touches the
+  // same samples); empty when the box misses the lattice.
+  SampleRect samplesIn(const Box2& b) const;
+  static SampleRect intersect(const SampleRect& a, const SampleRect& b);
+  static SampleRect grow(const SampleRect& r, int n);
+  SampleRect clamp(const SampleRect& r) const;
+
+  // Adds an offset operation's contribution to the samples inside its support (an append).
+  // With a pool, rows of samples are shared out (every sample's arithmetic is the same).
+  void add(const PreparedOp& op, ThreadPool* pool = nullptr);
+  // Sets the samples of `r` to the sum of `ops` (the offsets that may reach r, ascending index).
+  void recompute(const SampleRect& r, std::span<const PreparedOp* const> ops);
+  // After add()/recompute() over r: refreshes the twists around r and the pyramid above it.
+  void finish(const SampleRect& r, ThreadPool* pool = nullptr);
+
+  // D at (x, y) (inside domain()); with its gradient.
+  double value(double x, double y) const;
+  void valueAndGradient(double x, double y, double& v, double& gx, double& gy) const;
+  // Bounds over a box inside domain() (callers check containsBox()).
+  Bound bound(const Box2& b) const;
+  // Bounds over the whole lattice.
+  Bound rootBound() const;
+
+  // For tests: the stored sample (D, dD/dx, dD/dy, twist).
+  struct Sample {
+    float d = 0, dx = 0, dy = 0, dxy = 0;
+  };
+  const Sample& sample(int i, int j) const { return samples_[static_cast<size_t>(j) * nx_ + i]; }
+
+ private:
+  struct Node {
+    float lo, hi, gxlo, gxhi, gylo, gyhi;
+  };
+  struct Level {
+    int w = 0, h = 0;
+    std::vector<Node> nodes;
+  };
+  Sample& at(int i, int j) { return samples_[static_cast<size_t>(j) * nx_ + i]; }
+  void addTo(const PreparedOp& op, const SampleRect& r);
+  void updateTwist(const SampleRect& r);
+  void updateLeaves(int la0, int lb0, int la1, int lb1);
+  void updateLevels(int la0, int lb0, int la1, int lb1);
+
+  double x0_ = 0, y0_ = 0, s_ = 1, invS_ = 1, xMax_ = 0, yMax_ = 0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<Sample> samples_;
+  std::vector<Level> levels_;  // 0: leaves of kBlock x kBlock cells; the last: one node
+};
+
+}  // namespace emboss

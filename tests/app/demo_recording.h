@@ -1,0 +1,119 @@
+// A visitor's session as a tablet recording (evemu text, Wacom Intuos4 6x9 description): a flower
+// traced, its petals raised, a boss punched and beads struck, switching tools with the pen's barrel
+// button. Written to tests/app/data/visitor-demo.events (a test checks the file equals this).
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "app/surface_pick.h"
+#include "app/workbench.h"
+#include "frep/workpieces.h"
+#include "pieces/piece_art.h"
+
+namespace emboss::test {
+
+inline std::string visitorDemoRecording() {
+  // The bench as a 1280x800 kiosk shows it (any 16:10 screen frames the sheet the same way).
+  const auto plate = std::make_shared<Plate>(60.0, 40.0, 0.5);
+  const CameraSpec spec = benchCamera(plate->bounds(), 1280, 800, 0.78, benchSideRoom(800));
+  const Camera cam(spec, 1280, 800);
+  const ScreenBox area = tabletArea(sheetOnScreen(cam, plate->bounds()), 1.6);
+  const int maxX = 44704, maxY = 27940, maxP = 2047;
+
+  std::string out =
+      "# EVEMU 1.3\n# A synthetic visitor session for emboss-kiosk tests (tests/app/demo_recording.h)\n"
+      "N: Wacom Intuos4 6x9 Pen\nI: 0003 056a 00b9 0100\nP: 01 00 00 00 00 00 00 00\n"
+      "B: 00 0b 00 00 00 00 00 00 00\nB: 01 00 00 00 00 00 00 00 00\nB: 01 00 00 00 00 00 00 00 00\n"
+      "B: 01 00 00 00 00 00 00 00 00\nB: 01 00 00 00 00 00 00 00 00\nB: 01 00 00 1f 00 00 00 00 00\n"
+      "B: 01 df 1c 00 00 00 00 00 00\nB: 01 00 00 00 00 00 00 00 00\nB: 01 00 00 00 00 00 00 00 00\n"
+      "B: 01 00 00 00 00 00 00 00 00\nB: 01 00 00 00 00 00 00 00 00\nB: 01 00 00 00 00 00 00 00 00\n"
+      "B: 01 00 00 00 00 00 00 00 00\nB: 02 00 01 00 00 00 00 00 00\nB: 03 67 01 00 0f 00 01 00 00\n"
+      "B: 04 01 00 00 00 00 00 00 00\nB: 05 00 00 00 00 00 00 00 00\nB: 11 00 00 00 00 00 00 00 00\n"
+      "B: 12 00 00 00 00 00 00 00 00\nB: 14 00 00 00 00 00 00 00 00\nB: 15 00 00 00 00 00 00 00 00\n"
+      "B: 15 00 00 00 00 00 00 00 00\nA: 00 0 44704 4 0 200\nA: 01 0 27940 4 0 200\n"
+      "A: 18 0 2047 0 0 0\nA: 19 0 63 0 0 0\n";
+  double t = 1000.0;  // seconds
+  long tx = 0, ty = 0;
+  auto event = [&](int type, int code, long value) {
+    char buf[96];
+    const long long us = std::llround(t * 1e6);  // whole microseconds, so usec never reads 1000000
+    const long sec = static_cast<long>(us / 1000000), usec = static_cast<long>(us % 1000000);
+    std::snprintf(buf, sizeof buf, "E: %ld.%06ld %04x %04x %ld\n", sec, usec, type, code, value);
+    out += buf;
+  };
+  auto frame = [&](double advance) {
+    event(0, 0, 0);
+    t += advance;
+  };
+  // Sheet millimetres -> tablet counts, through the kiosk's own mapping.
+  auto toTablet = [&](Vec2 p) {
+    const auto s = cam.project({p.x, p.y, 0.5});
+    const double u = (s->x - area.x) / area.w, v = (s->y - area.y) / area.h;
+    tx = std::lround(std::clamp(u, 0.0, 1.0) * maxX), ty = std::lround(std::clamp(v, 0.0, 1.0) * maxY);
+  };
+  auto hoverTo = [&](Vec2 p) {
+    toTablet(p);
+    event(3, 0x00, tx), event(3, 0x01, ty), event(3, 0x19, 20);
+    frame(0.12);
+  };
+  auto stroke = [&](const art::Path& path, double pressure) {
+    hoverTo(path.front());
+    const auto pts = art::resampleEvery(path, 0.45);  // ~90 mm/s at 200 samples a second
+    for (size_t i = 0; i < pts.size(); ++i) {
+      toTablet(pts[i]);
+      const double ramp = std::min({1.0, (i + 1) / 6.0, (pts.size() - i) / 6.0});
+      const double p = pressure * (0.55 + 0.45 * ramp) * (1.0 + 0.06 * std::sin(i * 0.3));
+      event(3, 0x00, tx), event(3, 0x01, ty), event(3, 0x18, std::lround(std::clamp(p, 0.0, 1.0) * maxP));
+      if (i == 0) event(3, 0x19, 0), event(1, 0x14a, 1);
+      frame(0.005);
+    }
+    event(3, 0x18, 0), event(1, 0x14a, 0), event(3, 0x19, 12);
+    frame(0.15);
+  };
+  auto tap = [&](Vec2 p, double pressure) { stroke({p}, pressure); };
+  auto barrel = [&](int times) {
+    for (int i = 0; i < times; ++i) {
+      event(1, 0x14b, 1), frame(0.08);
+      event(1, 0x14b, 0), frame(0.12);
+    }
+  };
+
+  // The pen comes into range.
+  toTablet({0, 0});
+  event(1, 0x140, 1), event(3, 0x00, tx), event(3, 0x01, ty), event(3, 0x19, 40);
+  frame(0.2);
+  const Vec2 c{-6, 4};
+  const art::Path petal = art::spline({{4, 0}, {8, -4.2}, {15, -5.2}, {20, -2.5}, {21.5, 0}, {20, 2.5}, {15, 5.2}, {8, 4.2}}, true, 0.5);
+  std::vector<art::Path> petals;
+  for (int i = 0; i < 6; ++i) petals.push_back(art::transform(petal, 1.0, 90 + i * 60.0, c));
+  const art::Path leaf = art::spline({{0, 0}, {5, 3.5}, {12, 3.2}, {17, 0}, {12, -2.4}, {5, -2.6}}, true, 0.5);
+  const art::Path leafL = art::transform(leaf, 1.0, 160, {c.x - 3, c.y - 30});
+  const art::Path leafR = art::transform(leaf, 1.0, 20, {c.x + 2, c.y - 36});
+  const art::Path stem = art::spline({{c.x, c.y - 22}, {c.x - 2, c.y - 30}, {c.x + 1, c.y - 38}}, false, 0.5);
+  // 1. The tracer (a visitor's first tool): petals, heart, stem, leaves.
+  for (const auto& p : petals) stroke(p, 0.7);
+  stroke(art::circle(c, 4.2, 0.5), 0.7);
+  stroke(stem, 0.75);
+  stroke(leafL, 0.65);
+  stroke(leafR, 0.65);
+  // 2. Eight presses to the region raiser: the petals and leaves raised from behind.
+  barrel(8);
+  for (const auto& p : petals) stroke(art::offsetContour(p, -0.8), 0.9);
+  stroke(art::offsetContour(leafL, -0.6), 0.8);
+  stroke(art::offsetContour(leafR, -0.6), 0.8);
+  // 3. Six presses on to the punch: the heart as a boss.
+  barrel(6);
+  tap(c, 0.85);
+  // 4. Ten more to the small punch: beads struck around the flower, half way round so far.
+  barrel(10);
+  for (int i = 0; i <= 14; ++i) tap({c.x + 30 * std::cos((200 + i * 10) * M_PI / 180), c.y + 30 * std::sin((200 + i * 10) * M_PI / 180)}, 0.7);
+  // The pen leaves.
+  event(1, 0x140, 0);
+  frame(0.1);
+  return out;
+}
+
+}  // namespace emboss::test

@@ -1,0 +1,93 @@
+// The kiosk's scheduling of the ray tracer: whatever the order of dirty rectangles, previews and
+// refinement bands, the finished frame equals one full render.
+#include <gtest/gtest.h>
+
+#include "app/frame_composer.h"
+#include "app/view_orbit.h"
+#include "app/workbench.h"
+#include "frep/workpieces.h"
+
+namespace emboss {
+namespace {
+
+constexpr int kW = 200, kH = 125;
+
+Image fullRender(ThreadPool& pool, const Model& m, const CameraSpec& c, const ShadingParams& s) {
+  Renderer r(pool);
+  r.sync(m);
+  r.setCamera(Camera(c, kW, kH));
+  r.setShading(s);
+  Image img;
+  r.renderFull(img);
+  return img;
+}
+
+Operation punch(double x, double y) {
+  Operation op;
+  op.kind = OpKind::Punch;
+  op.a = 3, op.p = 0.25, op.q = 1;
+  op.at = {x, y, 0.5};
+  return op;
+}
+
+TEST(FrameComposer, FinishedFrameEqualsAFullRender) {
+  ThreadPool pool(2);
+  FrameComposer fc(pool, kW, kH);
+  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  const CameraSpec home = benchCamera(m.workpiece().bounds(), kW, kH);
+  ShadingParams sh;
+  sh.metal = *metalByName("copper");
+  sh.tinge = tinges()[0];
+  sh.frontZ = 0.5;
+  std::vector<Rect> changed;
+  fc.show(m, home, sh, {true, false, {}}, false);
+  fc.work(1.0, changed);  // a preview and a band or two: not finished
+  EXPECT_TRUE(fc.refining());
+  // Operations arrive while the refinement is under way.
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(m.add(punch(-20 + 10 * i, 5)));
+    fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+    fc.work(2.0, changed);
+  }
+  m.undo();
+  fc.show(m, home, sh, {false, false, {m.activeCount()}}, false);
+  std::vector<Rect> all;
+  fc.flush(all);
+  EXPECT_FALSE(fc.pending());
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh).rgba);
+
+  // The camera moves (previews only), then stops: refined to the exact frame again.
+  Orbit o = orbitOf(home);
+  for (int i = 1; i <= 3; ++i) {
+    o.azimuthDeg = -8.0 * i;
+    fc.show(m, cameraAt(o, home), sh, {false, true, {}}, true);
+    fc.work(5.0, changed);
+    EXPECT_FALSE(fc.refining());
+  }
+  const CameraSpec turned = cameraAt(o, home);
+  fc.show(m, turned, sh, {false, true, {}}, false);
+  fc.flush(all);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, turned, sh).rgba);
+  EXPECT_GT(fc.counters().previews, 3u);
+
+  // Back to a bare sheet of the first view: the remembered picture, exact.
+  Model bare(m.workpiecePtr(), Deformation::Sheet);
+  Model bare2(m.workpiecePtr(), Deformation::Sheet);
+  fc.show(bare, home, sh, {true, false, {}}, false);
+  fc.flush(all);
+  fc.show(bare2, home, sh, {true, false, {}}, false);
+  const auto reused = fc.counters().blankReuses;
+  fc.flush(all);
+  EXPECT_EQ(reused, 1u);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, bare2, home, sh).rgba);
+}
+
+TEST(FrameComposer, MergesOverlappingRectangles) {
+  const auto r = mergeRects({{0, 0, 10, 10}, {5, 0, 10, 10}, {100, 100, 5, 5}, {0, 0, 0, 0}});
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].w, 15);
+  EXPECT_EQ(r[1].x, 100);
+}
+
+}  // namespace
+}  // namespace emboss

@@ -1,0 +1,443 @@
+// The whole kiosk, headless, under a fake clock: a recorded visitor replayed, sessions saved,
+// staff export, and the fallbacks when files or disks misbehave.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "app/attract_library.h"
+#include "app/kiosk_app.h"
+#include "app/memory_display.h"
+#include "app/pointer_input.h"
+#include "app/stroke_builder.h"
+#include "demo_recording.h"
+#include "input/evemu.h"
+#include "pen_replay.h"
+#include "test_support.h"
+
+namespace emboss {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr int kW = 480, kH = 300;
+
+class FakeButtons final : public ButtonSource {
+ public:
+  std::string name() const override { return "fake buttons"; }
+  bool poll(std::vector<ButtonEvent>& out) override {
+    out.insert(out.end(), queued.begin(), queued.end());
+    queued.clear();
+    return true;
+  }
+  void tap(Action a, double t) {
+    queued.push_back({t, a, true, false});
+    queued.push_back({t, a, false, false});
+  }
+  std::vector<ButtonEvent> queued;
+};
+
+std::vector<PenSample> demoSamples() {
+  auto rec = parseEvemu(test::visitorDemoRecording());
+  EXPECT_TRUE(rec) << (rec ? "" : rec.error());
+  auto samples = evemuToSamples(*rec);
+  EXPECT_TRUE(samples);
+  return *samples;
+}
+
+KioskConfig testConfig(const fs::path& dir) {
+  KioskConfig c;
+  c.sessionsDir = dir / "sessions";
+  c.exportDir = dir / "export";
+  c.threads = 2;
+  return c;
+}
+
+// A small, quick attract piece.
+std::vector<AttractPiece> tinyPieces() {
+  Scene s;
+  s.workpiece = std::make_shared<Plate>(30.0, 20.0, 0.5);
+  s.title = "tiny";
+  for (int i = 0; i < 6; ++i) {
+    Operation op;
+    op.kind = OpKind::Punch;
+    op.a = 3, op.p = 0.2, op.q = 1;
+    op.at = {-15.0 + 6 * i, 0, 0.5};
+    s.operations.push_back(op);
+  }
+  return {{"tiny", s}};
+}
+
+// What the session must hold: the recording's strokes through the kiosk's mapping, picking and
+// the catalogue, tools switched by the barrel button, computed here without the kiosk.
+std::vector<Operation> expectedOperations(const std::vector<PenSample>& samples, const Workbench& bench) {
+  Model model(bench.model().workpiecePtr(), Deformation::Sheet);
+  const Camera cam(bench.homeCamera(), kW, kH);
+  const ScreenBox area = tabletArea(sheetOnScreen(cam, model.workpiece().bounds()), 1.6);
+  const Metal metal = *metalByName("copper");
+  size_t tool = 1;  // a visitor starts with the tracer
+  bool barrel = false;
+  StrokeBuilder sb;
+  std::vector<Operation> all;
+  auto end = [&] {
+    if (!sb.active()) return;
+    const size_t handed = sb.handedOut();
+    auto f = sb.end();
+    EXPECT_EQ(f.keep, handed);
+    for (auto& op : f.rest) {
+      EXPECT_TRUE(model.add(op));
+      all.push_back(op);
+    }
+  };
+  for (const auto& s : samples) {
+    if (s.barrel1 && !barrel) {
+      end();
+      tool = (tool + 1) % toolCatalogue().size();
+    }
+    barrel = s.barrel1;
+    if (!s.tip) {
+      end();
+      continue;
+    }
+    const auto hit = pickSurface(model, cam, area.x + s.x * area.w, area.y + s.y * area.h);
+    if (!hit) {
+      end();
+      continue;
+    }
+    if (!sb.active()) sb.begin(toolCatalogue()[tool], metal);
+    for (auto& op : sb.add({hit->x, hit->y, hit->z, std::clamp(s.pressure, 0.0, 1.0)})) {
+      EXPECT_TRUE(model.add(op));
+      all.push_back(op);
+    }
+  }
+  end();
+  return all;
+}
+
+double pixelDiff(const Image& a, const Image& b, int x, int y) {
+  double d = 0;
+  for (int k = 0; k < 3; ++k) d += std::abs(int(a.pixel(x, y)[k]) - int(b.pixel(x, y)[k]));
+  return d;
+}
+
+TEST(KioskApp, RecordedVisitorBecomesTheSessionAndTheSnapshotShowsIt) {
+  const fs::path dir = test::scratchDir("kiosk-app-replay");
+  double t = 100.0;
+  MemoryDisplay display(kW, kH);
+  std::vector<std::string> log;
+  KioskApp app(testConfig(dir), tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; });
+  EXPECT_EQ(app.mode(), KioskMode::Attract);
+  const auto samples = demoSamples();
+  ReplayPen pen(samples, "demo", true);
+  app.setPen(&pen, PenMapping::Tablet, true);
+  int steps = 0;
+  while (!app.feedDone() && steps < 100000) {
+    app.step();
+    t += 0.01;
+    ++steps;
+  }
+  EXPECT_EQ(app.mode(), KioskMode::Visitor);
+  app.finish();
+
+  // The session: exactly the operations of the recorded strokes (the waking stroke included).
+  const auto want = expectedOperations(samples, app.bench());
+  const Model& got = app.bench().model();
+  ASSERT_EQ(got.activeCount(), want.size());
+  EXPECT_GT(want.size(), 100u);
+  for (size_t i = 0; i < want.size(); ++i) ASSERT_TRUE(sameOperation(got.operations()[i].op(), want[i])) << "operation " << i;
+  size_t regions = 0, traces = 0, punches = 0;
+  for (const auto& op : want) regions += op.kind == OpKind::Region, traces += op.kind == OpKind::Trace, punches += op.kind == OpKind::Punch;
+  EXPECT_EQ(regions, 8u);
+  EXPECT_GT(traces, 50u);
+  EXPECT_EQ(punches, 16u);  // the boss and fifteen beads
+  EXPECT_EQ(app.bench().strokes(), 10u + 8u + 1u + 15u);  // traced, raised, the boss, the beads
+
+  // Written at exit as a scene file, and saved among the sessions (the kiosk stopping).
+  ASSERT_TRUE(app.writeSession(dir / "out" / "session.json"));
+  auto scene = loadScene(dir / "out" / "session.json");
+  ASSERT_TRUE(scene) << scene.error();
+  EXPECT_EQ(scene->operations.size(), want.size());
+  EXPECT_EQ(app.sessions().list().size(), 1u);
+
+  // The picture: changed where the strokes are, untouched far from them.
+  ThreadPool pool(2);
+  Renderer r(pool);
+  Model blankModel(got.workpiecePtr(), Deformation::Sheet);
+  r.sync(blankModel);
+  r.setCamera(Camera(app.bench().homeCamera(), kW, kH));
+  r.setShading(app.bench().shading());
+  Image blank;
+  r.renderFull(blank);
+  const Image& frame = app.composer().frame();
+  const Camera cam(app.bench().homeCamera(), kW, kH);
+  int changedNearStrokes = 0, checked = 0;
+  for (size_t i = 0; i < want.size(); i += 7) {
+    const Operation& op = want[i];
+    const Vec2 p = op.kind == OpKind::Punch ? Vec2{op.at.x, op.at.y} : op.points.front();
+    const auto s = cam.project({p.x, p.y, 0.5});
+    double best = 0;
+    for (int dy = -3; dy <= 3; ++dy)
+      for (int dx = -3; dx <= 3; ++dx) best = std::max(best, pixelDiff(frame, blank, int(s->x) + dx, int(s->y) + dy));
+    changedNearStrokes += best > 30;
+    ++checked;
+  }
+  EXPECT_GE(changedNearStrokes, checked * 9 / 10);
+  // The sheet's right end is far from the flower: the same as the bare sheet there.
+  const auto far = cam.project({50, 0, 0.5});
+  for (int dy = -5; dy <= 5; ++dy)
+    for (int dx = -5; dx <= 5; ++dx) EXPECT_EQ(pixelDiff(frame, blank, int(far->x) + dx, int(far->y) + dy), 0.0);
+  // The snapshot is the frame with the overlay.
+  ASSERT_TRUE(app.writeSnapshot(dir / "out" / "snap.png"));
+  auto png = readPng(dir / "out" / "snap.png");
+  ASSERT_TRUE(png);
+  EXPECT_EQ(png->width, kW);
+  const auto& latency = app.latency();
+  EXPECT_GT(latency.count(), 20u);
+}
+
+TEST(KioskApp, IdleVisitorIsSavedAndAttractResumes) {
+  const fs::path dir = test::scratchDir("kiosk-app-idle");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  KioskConfig config = testConfig(dir);
+  KioskApp app(config, tinyPieces(), display, {}, [&] { return t; });
+  FakeButtons buttons;
+  app.addButtons(&buttons);
+  // A visitor's tap (three samples: hover, touch, lift) with the punch.
+  buttons.tap(Action::NextTool, t);  // wakes the kiosk, and is carried out: the wide tracer
+  app.step();
+  EXPECT_EQ(app.mode(), KioskMode::Visitor);
+  EXPECT_EQ(app.bench().toolIndex(), 2u);
+  std::vector<PenSample> tap = {{0, 0.5, 0.5, 0, false, true}, {0.01, 0.5, 0.5, 0.7, true, true}, {0.02, 0.51, 0.5, 0.7, true, true},
+                                {0.03, 0.52, 0.5, 0, false, true}};
+  ReplayPen pen(tap, "tap", true);
+  app.setPen(&pen, PenMapping::Tablet, true);
+  for (int i = 0; i < 5; ++i) app.step(), t += 0.02;
+  ASSERT_GT(app.bench().model().activeCount(), 0u);
+  t += config.idleSeconds + 0.5;
+  app.step();
+  EXPECT_EQ(app.mode(), KioskMode::StillThere);
+  t += config.countdownSeconds + 0.5;
+  app.step();
+  EXPECT_EQ(app.mode(), KioskMode::Attract);
+  const auto saved = app.sessions().list();
+  ASSERT_EQ(saved.size(), 1u);
+  auto scene = loadScene(saved[0]);
+  ASSERT_TRUE(scene) << scene.error();
+  EXPECT_GT(scene->operations.size(), 0u);
+  fs::path png = saved[0];
+  png.replace_extension(".png");
+  EXPECT_TRUE(fs::exists(png));
+  // No temporary files left behind.
+  for (const auto& e : fs::directory_iterator(config.sessionsDir)) EXPECT_NE(e.path().extension(), ".part");
+  EXPECT_EQ(app.bench().model().activeCount(), 0u);
+}
+
+TEST(KioskApp, NewSheetSavesTheOldOneAndUndoNeverLosesTheSession) {
+  const fs::path dir = test::scratchDir("kiosk-app-newsheet");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  KioskApp app(testConfig(dir), tinyPieces(), display, {}, [&] { return t; });
+  FakeButtons buttons;
+  app.addButtons(&buttons);
+  std::vector<PenSample> s;
+  for (int i = 0; i <= 40; ++i) s.push_back({i * 0.005, 0.3 + 0.01 * i, 0.5, 0.6, true, true});
+  s.push_back({0.3, 0.7, 0.5, 0, false, true});
+  ReplayPen pen(s, "line", true);
+  app.setPen(&pen, PenMapping::Tablet, true);
+  while (!app.feedDone()) app.step(), t += 0.01;
+  const size_t ops = app.bench().model().activeCount();
+  ASSERT_GT(ops, 0u);
+  buttons.tap(Action::NewSheet, t);
+  app.step();
+  EXPECT_EQ(app.bench().model().activeCount(), 0u);
+  ASSERT_EQ(app.sessions().list().size(), 1u);
+  EXPECT_EQ(loadScene(app.sessions().list()[0])->operations.size(), ops);
+}
+
+TEST(KioskApp, StaffExportsSessionsAndSaysWhyWhenItCannot) {
+  const fs::path dir = test::scratchDir("kiosk-app-staff");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  KioskConfig config = testConfig(dir);
+  // A session saved earlier.
+  fs::create_directories(config.sessionsDir);
+  {
+    Scene s;
+    s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
+    Model m(s.workpiece, Deformation::Sheet);
+    ASSERT_TRUE(saveScene(s, &m, config.sessionsDir / "session-20240101-120000.json"));
+  }
+  std::vector<std::string> log;
+  KioskStart start;
+  start.staff = true;
+  KioskApp app(config, tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; }, start);
+  EXPECT_EQ(app.mode(), KioskMode::Staff);
+  app.step();
+  // The export folder is missing (no USB stick): a clear message, nothing else happens.
+  app.staffActivate(1);
+  EXPECT_NE(app.staffMessage().find("is not a folder"), std::string::npos) << app.staffMessage();
+  fs::create_directories(config.exportDir);
+  app.staffActivate(1);
+  EXPECT_EQ(app.staffMessage().rfind("Exported 1 files", 0), 0u) << app.staffMessage();
+  bool found = false;
+  for (const auto& e : fs::recursive_directory_iterator(config.exportDir)) found |= e.path().filename() == "session-20240101-120000.json";
+  EXPECT_TRUE(found);
+  EXPECT_TRUE(fs::exists(config.sessionsDir / "session-20240101-120000.json"));  // never moved
+  // Back to the exhibit.
+  FakeButtons buttons;
+  app.addButtons(&buttons);
+  buttons.tap(Action::Turn, t);  // activates the selected entry: "back to the exhibit"
+  app.step();
+  EXPECT_EQ(app.mode(), KioskMode::Attract);
+}
+
+TEST(SessionStore, FullDiskForExportIsAClearMessageAndNothingIsCopied) {
+  const fs::path dir = test::scratchDir("session-store-full");
+  SessionStore store(dir / "sessions", {});
+  Scene s;
+  s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
+  Model m(s.workpiece, Deformation::Sheet);
+  ASSERT_TRUE(store.save(s, m, nullptr, "20240101-000000"));
+  fs::create_directories(dir / "stick");
+  auto r = store.exportAll(dir / "stick", "x", std::nullopt, [](const fs::path&) { return std::optional<std::uintmax_t>(1000); });
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("not enough space"), std::string::npos) << r.error();
+  EXPECT_TRUE(fs::is_empty(dir / "stick"));
+}
+
+TEST(SessionStore, AFailedSaveIsKeptAndWrittenLater) {
+  const fs::path dir = test::scratchDir("session-store-retry");
+  std::ofstream(dir / "blocked") << "a file where the folder should be";
+  std::vector<std::string> log;
+  SessionStore store(dir / "blocked" / "sessions", [&](const std::string& l) { log.push_back(l); });
+  Scene s;
+  s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
+  Model m(s.workpiece, Deformation::Sheet);
+  Operation op;
+  op.kind = OpKind::Punch;
+  op.a = 3, op.p = 0.2, op.at = {0, 0, 0.5};
+  ASSERT_TRUE(m.add(op));
+  Image picture(8, 8);
+  EXPECT_FALSE(store.save(s, m, &picture, "20240101-000000"));
+  EXPECT_EQ(store.pendingCount(), 1u);
+  ASSERT_FALSE(log.empty());
+  EXPECT_NE(log[0].find("keeping the session"), std::string::npos) << log[0];
+  EXPECT_EQ(store.retryPending(), 1u);  // still blocked
+  fs::remove(dir / "blocked");
+  EXPECT_EQ(store.retryPending(), 0u);
+  ASSERT_EQ(store.list().size(), 1u);
+  EXPECT_EQ(loadScene(store.list()[0])->operations.size(), 1u);
+  EXPECT_TRUE(fs::exists(dir / "blocked" / "sessions" / "session-20240101-000000.png"));
+}
+
+TEST(AttractLibrary, ABrokenPieceIsSkippedWithAMessage) {
+  const fs::path dir = test::scratchDir("attract-broken");
+  std::ofstream(dir / "a-broken.json") << "{\"operations\": [ {\"op\": \"punch\", \"a\": -1} ]";
+  std::ofstream(dir / "b-bad-op.json") << R"({"operations": [{"op": "punch", "a": -2, "at": [0,0,0]}]})";
+  ASSERT_TRUE(saveScene(tinyPieces()[0].scene, nullptr, dir / "c-good.json"));
+  std::vector<std::string> log;
+  const auto pieces = loadAttractPieces(dir, [&](const std::string& l) { log.push_back(l); });
+  ASSERT_EQ(pieces.size(), 1u);
+  EXPECT_EQ(pieces[0].name, "c-good");
+  ASSERT_EQ(log.size(), 2u);
+  EXPECT_NE(log[0].find("a-broken.json"), std::string::npos) << log[0];
+  EXPECT_NE(log[1].find("b-bad-op.json"), std::string::npos) << log[1];
+  EXPECT_TRUE(loadAttractPieces(dir / "missing", {}).empty());
+  EXPECT_FALSE(builtinAttractPieces().empty());
+}
+
+TEST(AttractPlayer, PlaysPiecesOperationByOperationThenTurnsAndLoops) {
+  auto pieces = tinyPieces();
+  pieces.push_back(pieces[0]);
+  pieces[1].scene.title = "second";
+  AttractPlayer p(pieces, kW, kH);
+  p.start(0, 0, 0.5);
+  EXPECT_EQ(p.model().activeCount(), 3u);
+  EXPECT_TRUE(p.takeChanges().full);
+  const double build = p.buildSeconds(0);
+  EXPECT_GE(build, 40.0);  // a watchable pace even for a tiny piece
+  // Half was done at the start: the other half takes the other half of the time.
+  p.update(build * 0.25);
+  EXPECT_EQ(p.model().activeCount(), 4u);
+  EXPECT_EQ(p.takeChanges().ops.size(), 1u);
+  p.update(build * 0.5 + 0.01);
+  EXPECT_EQ(p.model().activeCount(), 6u);
+  p.update(build * 0.5 + 1);
+  EXPECT_TRUE(p.moving());
+  p.update(build * 0.5 + 1 + AttractPlayer::kShowSeconds);
+  EXPECT_FALSE(p.moving());
+  p.update(build * 0.5 + 2 + AttractPlayer::kShowSeconds + AttractPlayer::kRestSeconds);
+  EXPECT_EQ(p.title(), "second");
+  EXPECT_EQ(p.model().activeCount(), 0u);
+}
+
+TEST(KioskConfig, BadLinesAreWarningsAndKeepTheDefaults) {
+  std::vector<std::string> w;
+  const KioskConfig c = parseKioskConfig(
+      "# comment\ndisplay = headless\nsize = 800x480\nidle_seconds = -3\nstaff_chord = undo+turn\nfoo = bar\n"
+      "key.F5 = new_sheet\nmetal = gold\nnonsense line\ntablet = evemu:/tmp/x.events\n",
+      "kiosk.conf", {}, w);
+  EXPECT_EQ(c.display, "headless");
+  EXPECT_EQ(c.width, 800);
+  EXPECT_EQ(c.height, 480);
+  EXPECT_EQ(c.idleSeconds, 60);
+  EXPECT_EQ(c.staffChord.second, Action::Turn);
+  EXPECT_EQ(c.keys.at("F5"), Action::NewSheet);
+  EXPECT_EQ(c.keys.at("Right"), Action::NextTool);
+  EXPECT_EQ(c.metal, "copper");
+  EXPECT_EQ(c.tablet, "evemu:/tmp/x.events");
+  ASSERT_EQ(w.size(), 4u);
+  EXPECT_EQ(w[0].rfind("kiosk.conf:4: idle_seconds", 0), 0u) << w[0];
+  std::vector<std::string> w2;
+  loadKioskConfig("/nonexistent/kiosk.conf", {}, w2);
+  ASSERT_EQ(w2.size(), 1u);
+  EXPECT_NE(w2[0].find("using the defaults"), std::string::npos);
+}
+
+TEST(PointerInput, MouseIsAPenWithASteadyPressAndKeysAreButtons) {
+  double t = 0;
+  MousePen mouse(200, 100, [&] { return t; });
+  mouse.feed({PointerEvent::Type::Move, 50, 25, ""});
+  mouse.feed({PointerEvent::Type::Down, 50, 25, ""});
+  t = 0.5;
+  mouse.feed({PointerEvent::Type::Move, 100, 50, ""});
+  mouse.feed({PointerEvent::Type::Up, 100, 50, ""});
+  std::vector<PenSample> s;
+  mouse.poll(s);
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_FALSE(s[0].tip);
+  EXPECT_TRUE(s[0].inRange);
+  EXPECT_DOUBLE_EQ(s[0].x, 0.25);
+  EXPECT_TRUE(s[1].tip);
+  EXPECT_GT(s[1].pressure, 0.3);
+  EXPECT_NEAR(s[2].pressure, 0.6, 1e-9);
+  EXPECT_DOUBLE_EQ(s[2].y, 0.5);
+  EXPECT_FALSE(s[3].tip);
+  KeyButtons keys(defaultKeyMap(), [&] { return t; });
+  keys.feed({PointerEvent::Type::Key, 0, 0, "z"});
+  keys.feed({PointerEvent::Type::Key, 0, 0, "unmapped"});
+  std::vector<ButtonEvent> b;
+  keys.poll(b);
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_EQ(b[0].action, Action::Undo);
+  EXPECT_TRUE(b[0].pressed);
+  EXPECT_FALSE(b[1].pressed);
+}
+
+TEST(MemoryDisplay, DrawsTheOverlayIntoThePicture) {
+  MemoryDisplay d(40, 30);
+  Image frame(40, 30);
+  Overlay o;
+  o.rects.push_back({5, 5, 10, 10, {1, 0, 0, 1}, 0});
+  o.rings.push_back({30, 15, 6, 2, {0, 1, 0, 1}});
+  o.texts.push_back({0, 0, 10, "skipped", {}});
+  ASSERT_TRUE(d.present(frame, {}, o));
+  const Image shot = d.screenshot();
+  EXPECT_EQ(shot.pixel(10, 10)[0], 255);
+  EXPECT_GT(shot.pixel(36, 15)[1], 240);
+  EXPECT_EQ(shot.pixel(30, 15)[1], 0);  // the ring's middle stays clear
+  EXPECT_EQ(d.textsSkipped(), 1u);
+}
+
+}  // namespace
+}  // namespace emboss

@@ -1,0 +1,69 @@
+// The kiosk's shipped data equal the code that makes them: the attract pieces (firmware-app/pieces)
+// and the demo recording (tests/app/data). EMBOSS_UPDATE_KIOSK_DATA=1 rewrites them instead.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <set>
+
+#include "app/attract_library.h"
+#include "demo_recording.h"
+#include "pieces/pieces.h"
+#include "scene/scene.h"
+#include "test_support.h"
+
+namespace emboss {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool updating() {
+  const char* e = std::getenv("EMBOSS_UPDATE_KIOSK_DATA");
+  return e && *e && std::string(e) != "0";
+}
+
+TEST(AttractPieces, ShippedFilesEqualTheGenerator) {
+  const fs::path dir = fs::path(EMBOSS_SOURCE_DIR) / "firmware-app" / "pieces";
+  const auto pieces = generateAttractPieces();
+  ASSERT_GE(pieces.size(), 3u);
+  std::set<std::string> names;
+  for (const auto& p : pieces) {
+    names.insert(p.file);
+    EXPECT_GE(p.scene.operations.size(), 300u) << p.file << ": several hundred operations";
+    EXPECT_LE(p.scene.operations.size(), 4000u) << p.file;
+    auto model = p.scene.makeModel();
+    EXPECT_TRUE(model) << p.file << ": " << (model ? "" : model.error());
+    const std::string json = sceneToJson(p.scene);
+    if (updating()) {
+      ASSERT_TRUE(writeFileAtomically(dir / p.file, json));
+      continue;
+    }
+    EXPECT_EQ(test::readText(dir / p.file), json)
+        << p.file << " differs from src/pieces: run `emboss-kiosk --write-pieces firmware-app/pieces`";
+  }
+  // Every file there plays (other pieces may join the generated ones).
+  std::vector<std::string> log;
+  const auto loaded = loadAttractPieces(dir, [&](const std::string& l) { log.push_back(l); });
+  EXPECT_TRUE(log.empty()) << log.front();
+  std::set<std::string> found;
+  for (const auto& l : loaded) found.insert(l.name + ".json");
+  for (const auto& n : names) EXPECT_TRUE(found.count(n)) << n << " does not play";
+}
+
+TEST(AttractPieces, AreDeterministic) {
+  const auto a = generateAttractPieces(), b = generateAttractPieces();
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(sceneToJson(a[i].scene), sceneToJson(b[i].scene));
+}
+
+TEST(KioskData, DemoRecordingFileEqualsItsGenerator) {
+  const fs::path file = fs::path(EMBOSS_SOURCE_DIR) / "tests" / "app" / "data" / "visitor-demo.events";
+  const std::string text = test::visitorDemoRecording();
+  if (updating()) {
+    ASSERT_TRUE(writeFileAtomically(file, text));
+    return;
+  }
+  EXPECT_EQ(test::readText(file), text) << "run the test with EMBOSS_UPDATE_KIOSK_DATA=1 to rewrite " << file;
+}
+
+}  // namespace
+}  // namespace emboss

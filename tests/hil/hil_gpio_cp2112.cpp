@@ -1,0 +1,293 @@
+// HIL: the GPIO buttons through a real gpiochip. Debian's kernels have neither gpio-sim nor
+// gpio-mockup, but they have hid-cp2112, the driver of Silicon Labs' CP2112 USB-HID to SMBus/GPIO
+// bridge, which registers a real gpiochip ("cp2112_gpio", 8 lines) with an interrupt chip. This
+// program emulates the CP2112's HID protocol (AN495 feature reports) over uhid, so the kernel's
+// driver, gpiolib, the GPIO character device and libgpiod all run for real; the test moves the
+// emulated pins and the libgpiod back end (openGpioButtons, GpioButtons::poll) must see the edges,
+// debounce them, and map them to actions, long presses and chords.
+//
+// The CP2112 has no edge interrupt: its driver polls the pin levels every 10 jiffies (40 ms at
+// HZ=250) and makes edge interrupts of the changes. Glitches the test makes are therefore 150 ms
+// long (several polls even on a loaded machine), and the configuration under test debounces over
+// 300 ms; a control run with 20 ms debouncing shows such glitches do come through when the
+// debounce is short.
+//
+//   hil_gpio_cp2112          (needs the modules uhid and hid-cp2112)
+#include <algorithm>
+
+#include <gpiod.h>
+
+#include "buttons_gpio.h"
+#include "devices/button_config.h"
+#include "hil_common.h"
+
+namespace {
+
+using emboss::Action;
+using emboss::ButtonEvent;
+
+// A vendor-defined descriptor with the CP2112's report IDs (the driver only needs it to parse).
+const std::vector<uint8_t> kDescriptor = {
+    0x06, 0x00, 0xFF, 0x09, 0x01, 0xA1, 0x01, 0x15, 0x00, 0x26, 0xFF, 0x00, 0x75, 0x08,
+    0x85, 0x02, 0x95, 0x04, 0x09, 0x02, 0xB1, 0x02,  // GPIO configuration
+    0x85, 0x03, 0x95, 0x01, 0x09, 0x03, 0xB1, 0x02,  // GPIO get
+    0x85, 0x04, 0x95, 0x02, 0x09, 0x04, 0xB1, 0x02,  // GPIO set
+    0x85, 0x05, 0x95, 0x02, 0x09, 0x05, 0xB1, 0x02,  // version
+    0x85, 0x06, 0x95, 0x0D, 0x09, 0x06, 0xB1, 0x02,  // SMBus configuration
+    0x85, 0x10, 0x95, 0x3F, 0x09, 0x10, 0x91, 0x02,  // data read request (output)
+    0x85, 0x13, 0x95, 0x3F, 0x09, 0x13, 0x81, 0x02,  // data read response (input)
+    0x85, 0x16, 0x95, 0x06, 0x09, 0x16, 0x81, 0x02,  // transfer status response (input)
+    0x85, 0x20, 0x95, 0x01, 0x09, 0x20, 0xB1, 0x02,  // lock byte
+    0xC0};
+
+// The emulated chip: eight pins, pulled up (a button pulls its pin to ground).
+class Cp2112 {
+ public:
+  bool create() {
+    dev_.onGetReport([this](uint8_t rnum, uint8_t) -> std::optional<std::vector<uint8_t>> {
+      std::lock_guard<std::mutex> lock(m_);
+      switch (rnum) {
+        case 0x02: return std::vector<uint8_t>{0x02, direction_, pushPull_, 0x00, 0x00};
+        case 0x03: ++levelReads_; return std::vector<uint8_t>{0x03, levels_};
+        case 0x05: return std::vector<uint8_t>{0x05, 0x0C, 0x02};  // part number, version
+        case 0x06: return std::vector<uint8_t>{0x06, 0x00, 0x01, 0x86, 0xA0, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
+        case 0x20: return std::vector<uint8_t>{0x20, 0xFF};
+        default: return std::nullopt;
+      }
+    });
+    dev_.onSetReport([this](uint8_t rnum, uint8_t, const std::vector<uint8_t>& d) {
+      std::lock_guard<std::mutex> lock(m_);
+      if (rnum == 0x02 && d.size() >= 3) direction_ = d[1], pushPull_ = d[2];
+      if (rnum == 0x04 && d.size() >= 3) outputs_ = static_cast<uint8_t>((outputs_ & ~d[2]) | (d[1] & d[2]));
+      return true;
+    });
+    return dev_.create("CP2112 HID USB-to-SMBus Bridge", BUS_USB, 0x10c4, 0xea90, kDescriptor, "emboss-hil-cp2112");
+  }
+  void destroy() { dev_.destroy(); }
+  // Pressed pulls the pin low.
+  void press(unsigned pin, bool down) {
+    std::lock_guard<std::mutex> lock(m_);
+    if (down) levels_ = static_cast<uint8_t>(levels_ & ~(1u << pin));
+    else levels_ = static_cast<uint8_t>(levels_ | (1u << pin));
+  }
+  int levelReads() {
+    std::lock_guard<std::mutex> lock(m_);
+    return levelReads_;
+  }
+  const std::string& error() const { return dev_.error(); }
+
+ private:
+  hil::Uhid dev_;
+  std::mutex m_;
+  uint8_t levels_ = 0xFF;
+  uint8_t direction_ = 0x00;  // all inputs
+  uint8_t pushPull_ = 0x00;
+  uint8_t outputs_ = 0x00;
+  int levelReads_ = 0;
+};
+
+// The gpiochip the driver registered for the emulated chip, as "gpiochipN".
+std::string findChip() {
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator("/sys/bus/gpio/devices", ec)) {
+    const auto label = hil::readFile(e.path() / "label");  // not on every kernel: fall back to the parent
+    const auto real = std::filesystem::canonical(e.path(), ec).string();
+    if (real.find("10C4:EA90") != std::string::npos || (label && hil::trim(*label) == "cp2112_gpio")) return e.path().filename().string();
+  }
+  return "";
+}
+
+// Polls the source like the kiosk's main loop (every 10 ms) for `seconds`, collecting events.
+std::vector<ButtonEvent> pump(emboss::ButtonSource& src, double seconds, bool& alive) {
+  std::vector<ButtonEvent> out;
+  const double end = hil::now() + seconds;
+  alive = true;
+  while (hil::now() < end && alive) {
+    alive = src.poll(out);
+    hil::sleepS(0.01);
+  }
+  return out;
+}
+
+std::string describe(const std::vector<ButtonEvent>& events) {
+  std::string s;
+  for (const auto& e : events)
+    s += std::string(s.empty() ? "" : ", ") + emboss::actionName(e.action) + (e.longPress ? " (long)" : "") + (e.pressed ? " down" : " up");
+  return s.empty() ? "none" : s;
+}
+
+emboss::ButtonConfig config(const std::string& chip, double debounceS) {
+  emboss::ButtonConfig c;
+  c.source = "hil config";
+  c.longPressS = 1.0;
+  c.chordWindowS = 0.3;
+  auto add = [&](unsigned line, Action a, Action longPress = Action::None) {
+    emboss::ButtonLineConfig b;
+    b.chip = chip;
+    b.line = line;
+    b.action = a;
+    b.activeLow = true;
+    b.bias = emboss::LineBias::PullUp;
+    b.debounceS = debounceS;
+    b.longPress = longPress;
+    c.buttons.push_back(b);
+  };
+  add(0, Action::NextTool);
+  add(1, Action::Undo);
+  add(2, Action::Redo);
+  add(3, Action::NewSheet, Action::Staff);
+  emboss::ChordConfig chord;
+  chord.buttons = {Action::Undo, Action::Redo};
+  chord.action = Action::Turn;
+  chord.holdS = 0.3;
+  c.chords.push_back(chord);
+  return c;
+}
+
+}  // namespace
+
+int main() {
+  Cp2112 chip;
+  if (!hil::check(chip.create(), "uhid CP2112 created %s", chip.error().c_str())) return hil::finish("hil_gpio_cp2112");
+  std::string name;
+  hil::waitFor([&] { return !(name = findChip()).empty(); }, 5.0, 0.05);
+  if (!hil::check(!name.empty(), "hid-cp2112 registered a gpiochip for it (%s)", name.empty() ? "none: is hid-cp2112 loaded?" : name.c_str()))
+    return hil::finish("hil_gpio_cp2112");
+  const auto chips = emboss::listGpioChips();
+  hil::check(std::find(chips.begin(), chips.end(), "/dev/" + name) != chips.end(), "listGpioChips lists /dev/%s", name.c_str());
+
+  // A line the chip does not have: a clear failure.
+  {
+    auto c = config(name, 0.3);
+    c.buttons[0].line = 9;
+    auto bad = emboss::openGpioButtons(c);
+    hil::check(!bad && bad.error().find("does not exist") != std::string::npos, "openGpioButtons refuses line 9 of an 8-line chip (%s)",
+               bad ? "it opened" : bad.error().c_str());
+    auto c2 = config("gpiochip99", 0.3);
+    auto none = emboss::openGpioButtons(c2);
+    hil::check(!none, "openGpioButtons refuses a chip that is not there (%s)", none ? "it opened" : none.error().c_str());
+  }
+
+  // Control: with a 20 ms debounce, a 100 ms glitch is a press.
+  {
+    auto buttons = emboss::openGpioButtons(config(name, 0.02));
+    if (hil::check(buttons.ok(), "openGpioButtons (20 ms debounce): %s", buttons ? (*buttons)->name().c_str() : buttons.error().c_str())) {
+      bool alive = true;
+      pump(**buttons, 0.2, alive);
+      chip.press(0, true);
+      hil::sleepS(0.15);
+      chip.press(0, false);
+      auto ev = pump(**buttons, 0.5, alive);
+      const bool seen = std::count_if(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::NextTool && e.pressed; }) == 1;
+      hil::check(seen, "control: a 150 ms pulse on line 0 reaches the back end as a press when debouncing is 20 ms (%s)", describe(ev).c_str());
+    }
+  }
+
+  auto opened = emboss::openGpioButtons(config("cp2112_gpio", 0.3));  // by label, as gpiodetect shows it
+  if (!hil::check(opened.ok(), "openGpioButtons by chip label (300 ms debounce): %s", opened ? (*opened)->name().c_str() : opened.error().c_str()))
+    return hil::finish("hil_gpio_cp2112");
+  auto& buttons = **opened;
+  bool alive = true;
+  pump(buttons, 0.2, alive);
+
+  // 1. A clean press and release.
+  const double t0 = hil::now();
+  chip.press(0, true);
+  auto ev = pump(buttons, 0.6, alive);
+  const auto down = std::find_if(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::NextTool && e.pressed; });
+  hil::check(down != ev.end() && ev.size() == 1, "press on line 0 gives next_tool down (%s)", describe(ev).c_str());
+  if (down != ev.end())
+    hil::check(down->time_s >= t0 - 0.05 && down->time_s <= t0 + 0.3, "its time stamp is the settled edge's, on CLOCK_MONOTONIC (%.3f s after the press)",
+               down->time_s - t0);
+  chip.press(0, false);
+  ev = pump(buttons, 0.6, alive);
+  hil::check(ev.size() == 1 && ev[0].action == Action::NextTool && !ev[0].pressed, "release gives next_tool up (%s)", describe(ev).c_str());
+
+  // 2. A glitch shorter than the debounce: nothing.
+  chip.press(0, true);
+  hil::sleepS(0.15);
+  chip.press(0, false);
+  ev = pump(buttons, 0.6, alive);
+  hil::check(ev.empty(), "a 150 ms glitch on line 0 is debounced away (%s)", describe(ev).c_str());
+
+  // 3. A bouncing press and a bouncing release: one press, one release.
+  for (int i = 0; i < 2; ++i) {
+    chip.press(1, true);
+    hil::sleepS(0.15);
+    chip.press(1, false);
+    hil::sleepS(0.15);
+  }
+  chip.press(1, true);
+  hil::sleepS(0.8);
+  chip.press(1, false);
+  hil::sleepS(0.15);
+  chip.press(1, true);
+  hil::sleepS(0.15);
+  chip.press(1, false);
+  ev = pump(buttons, 0.8, alive);
+  // undo is a chord member: its press waits for the chord window, then goes out on its own.
+  const auto undoDown = std::count_if(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::Undo && e.pressed; });
+  const auto undoUp = std::count_if(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::Undo && !e.pressed; });
+  hil::check(undoDown == 1 && undoUp == 1, "a bouncing press and release on line 1 gives one undo down and one undo up (%s)", describe(ev).c_str());
+
+  // 4. A long press: new_sheet held for 1.4 s gives staff (long) instead.
+  chip.press(3, true);
+  hil::sleepS(1.4);
+  chip.press(3, false);
+  ev = pump(buttons, 0.6, alive);
+  const bool longStaff = std::any_of(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::Staff && e.longPress; });
+  const bool shortSheet = std::any_of(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::NewSheet; });
+  hil::check(longStaff && !shortSheet, "holding line 3 for 1.4 s gives the long-press action staff, not new_sheet (%s)", describe(ev).c_str());
+
+  // 5. A short press of the same button: its own action.
+  chip.press(3, true);
+  hil::sleepS(0.45);
+  chip.press(3, false);
+  ev = pump(buttons, 0.6, alive);
+  hil::check(std::any_of(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::NewSheet && e.pressed; }) &&
+                 std::none_of(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::Staff; }),
+             "a short press on line 3 gives new_sheet (%s)", describe(ev).c_str());
+
+  // 6. A chord: undo and redo pressed together and held gives turn, and neither of their own.
+  chip.press(1, true);
+  hil::sleepS(0.05);
+  chip.press(2, true);
+  hil::sleepS(0.9);
+  chip.press(1, false);
+  chip.press(2, false);
+  ev = pump(buttons, 0.6, alive);
+  const bool turn = std::any_of(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::Turn && e.pressed; });
+  const bool own = std::any_of(ev.begin(), ev.end(), [](const ButtonEvent& e) { return e.action == Action::Undo || e.action == Action::Redo; });
+  hil::check(turn && !own, "undo + redo held together give the chord's turn (%s)", describe(ev).c_str());
+  hil::check(alive, "the source stayed alive throughout");
+  hil::note("the driver read the pin levels %d times", chip.levelReads());
+
+  // 7. Unplugged: the source says so. Line 7, requested here directly, shows what the kernel
+  // offers a program to notice the loss with (for the report when the check fails).
+  gpiod_chip* probe = gpiod_chip_open_by_label("cp2112_gpio");
+  gpiod_line* line7 = probe ? gpiod_chip_get_line(probe, 7) : nullptr;
+  const bool probing = line7 && gpiod_line_request_both_edges_events(line7, "hil-probe") == 0;
+  chip.destroy();
+  bool gone = false;
+  hil::waitFor([&] {
+    std::vector<ButtonEvent> out;
+    return gone = !buttons.poll(out);
+  }, 3.0, 0.02);
+  hil::check(gone, "poll() returns false once the GPIO adapter is unplugged");
+  if (probing) {
+    pollfd p{gpiod_line_event_get_fd(line7), POLLIN, 0};
+    const int ready = ::poll(&p, 1, 0);
+    errno = 0;
+    const int value = gpiod_line_get_value(line7);
+    const int valueErr = errno;
+    errno = 0;
+    const int update = gpiod_line_update(line7);
+    const int updateErr = errno;
+    hil::note("after the unplug: /dev/%s %s; line event fd poll() %d (revents 0x%x); gpiod_line_get_value %d (%s); gpiod_line_update %d (%s)",
+              name.c_str(), std::filesystem::exists("/dev/" + name) ? "still exists" : "is gone", ready, p.revents, value,
+              valueErr ? std::strerror(valueErr) : "no error", update, updateErr ? std::strerror(updateErr) : "no error");
+  }
+  if (probe) gpiod_chip_close(probe);
+  opened->reset();
+  return hil::finish("hil_gpio_cp2112");
+}

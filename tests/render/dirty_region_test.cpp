@@ -1,0 +1,172 @@
+// Dirty updates give exactly the bytes of a full render: random pieces, operations added, undone
+// and redone one at a time, each followed by a dirty update only, compared with a fresh render of
+// a freshly built model (other threads, other tiles) byte for byte.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "bench/piece_generator.h"
+#include "frep/vm_generate.h"
+#include "frep/vm_model.h"
+#include "render/renderer.h"
+#include "tools/metal.h"
+
+namespace emboss {
+namespace {
+
+struct Case {
+  PieceShape shape;  // Disc with vm set: an imported vm outline instead
+  Deformation deformation;
+  bool exactTracer;  // sheet model through the exact tracer (RenderOptions::exact)
+  int width, height;
+  int steps;
+  unsigned seed;
+  bool vm = false;
+};
+
+std::string describe(const Case& c) {
+  return std::string(c.vm ? "vm" : c.shape == PieceShape::Disc ? "disc" : "plate") + "/" +
+         (c.deformation == Deformation::Sheet ? (c.exactTracer ? "sheet-exact" : "sheet") : "offset") + "/seed " +
+         std::to_string(c.seed);
+}
+
+ShadingParams shading(const Model& m) {
+  ShadingParams s;
+  s.metal = *metalByName("brass");
+  s.tinge = *tingeByName("brown");  // the tinge reads the hit's depth: positions must match too
+  s.frontZ = m.workpiece().bounds().z1;
+  return s;
+}
+
+Model rebuilt(const Model& live) {
+  Model m(live.workpiecePtr(), live.deformation());
+  for (size_t i = 0; i < live.activeCount(); ++i) EXPECT_TRUE(m.add(live.operations()[i].op()).ok());
+  return m;
+}
+
+// The first differing pixel, or an empty string.
+std::string firstDifference(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height) return "sizes differ";
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      if (std::memcmp(a.pixel(x, y), b.pixel(x, y), 4) != 0) {
+        const auto* p = a.pixel(x, y);
+        const auto* q = b.pixel(x, y);
+        return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): dirty " + std::to_string(p[0]) + "," +
+               std::to_string(p[1]) + "," + std::to_string(p[2]) + " full " + std::to_string(q[0]) + "," +
+               std::to_string(q[1]) + "," + std::to_string(q[2]);
+      }
+  return {};
+}
+
+void runCase(const Case& c) {
+  SCOPED_TRACE(describe(c));
+  PieceOptions opt;
+  opt.shape = c.shape;
+  opt.width = 48, opt.height = 36;
+  opt.halfThickness = 0.5;
+  opt.deformation = c.deformation;
+  opt.toolScale = 1.6;
+  GeneratedPiece piece = generatePiece(c.steps, c.seed, opt);
+  if (c.vm) {
+    // A medallion outline from the vm generator as the workpiece (an outline sheet), the relief
+    // moved onto it.
+    auto program = VmProgram::parse(generateVmRelief(150, c.seed), "test");
+    ASSERT_TRUE(program.ok()) << program.error();
+    auto wp = VmWorkpiece::create(std::move(*program), "test.vm", 18.0, 0.5);
+    ASSERT_TRUE(wp.ok()) << wp.error();
+    const Box3 b = (*wp)->bounds();
+    opt.width = b.x1 - b.x0, opt.height = b.y1 - b.y0;
+    piece = generatePiece(c.steps, c.seed, opt);
+    const double cx = 0.5 * (b.x0 + b.x1), cy = 0.5 * (b.y0 + b.y1);
+    for (Operation& o : piece.operations) {
+      for (Vec2& p : o.points) p.x += cx, p.y += cy;
+      o.at.x += cx, o.at.y += cy;
+      o.tool.center.x += cx, o.tool.center.y += cy;
+    }
+    piece.workpiece = *wp;
+    piece.camera = defaultCamera(b);
+  }
+  PieceRandom rng(c.seed * 7919u + 13u);
+
+  ThreadPool pool(2);
+  Renderer live(pool);
+  Model model(piece.workpiece, piece.deformation);
+  const Camera camera(piece.camera, c.width, c.height);
+  live.setCamera(camera);
+  live.setShading(shading(model));
+  RenderOptions options;
+  options.exact = c.exactTracer;
+  live.setOptions(options);
+  live.sync(model);
+  Image image;
+  live.renderFull(image);
+
+  ThreadPool onePool(1);
+  size_t next = 0;
+  long dirtyPixels = 0, framePixels = 0;
+  for (int step = 0; step < c.steps; ++step) {
+    // Mostly strokes, some undos and redos, now and then a set operation.
+    size_t index;
+    const double r = rng.uniform(0, 1);
+    std::string what;
+    if (r < 0.2 && model.canUndo()) {
+      model.undo();
+      index = model.activeCount();
+      what = "undo";
+    } else if (r < 0.3 && model.canRedo()) {
+      model.redo();
+      index = model.activeCount() - 1;
+      what = "redo";
+    } else {
+      Operation op = next < piece.operations.size() ? piece.operations[next++] : randomPunch(rng, piece, opt.toolScale);
+      if (rng.chance(0.08)) op = randomSetOperation(rng, piece, 1.0);
+      if (rng.chance(0.15)) op = randomTraceSegment(rng, piece, opt.toolScale);
+      ASSERT_TRUE(model.add(op).ok());
+      index = model.activeCount() - 1;
+      what = std::string("add ") + opKindName(op.kind);
+    }
+    SCOPED_TRACE("step " + std::to_string(step) + ": " + what + " (operation " + std::to_string(index) + ")");
+    live.sync(model);
+    const Rect dirty = live.dirtyRect(model, index);
+    ASSERT_TRUE(live.render(image, dirty));
+    dirtyPixels += dirty.area();
+    framePixels += c.width * c.height;
+
+    // A fresh model and renderer, one thread and other tiles.
+    const Model fresh = rebuilt(model);
+    Renderer full(onePool);
+    full.setCamera(camera);
+    full.setShading(shading(fresh));
+    RenderOptions o = options;
+    o.tileSize = 7;
+    full.setOptions(o);
+    full.sync(fresh);
+    Image reference;
+    full.renderFull(reference);
+    const std::string diff = firstDifference(image, reference);
+    ASSERT_TRUE(diff.empty()) << diff << "; dirty rect " << dirty.x << "," << dirty.y << " " << dirty.w << "x" << dirty.h;
+  }
+  // The dirty rectangles must be a real saving, not the whole frame.
+  EXPECT_LT(dirtyPixels, framePixels * 3 / 4);
+}
+
+TEST(DirtyRegion, SheetPlateEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Sheet, false, 128, 80, 30, 1}); }
+TEST(DirtyRegion, SheetDiscEqualsFullRender) { runCase({PieceShape::Disc, Deformation::Sheet, false, 112, 80, 30, 2}); }
+TEST(DirtyRegion, OffsetPlateEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Offset, false, 72, 48, 14, 3}); }
+TEST(DirtyRegion, OffsetDiscEqualsFullRender) { runCase({PieceShape::Disc, Deformation::Offset, false, 64, 48, 14, 4}); }
+TEST(DirtyRegion, SheetVmOutlineEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Sheet, false, 96, 64, 20, 6, true}); }
+TEST(DirtyRegion, SheetExactTracerEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Sheet, true, 72, 48, 12, 5}); }
+
+// Longer runs, more seeds and larger pictures.
+TEST(DirtyRegionSlow, ManySeeds) {
+  for (unsigned seed = 10; seed < 16; ++seed) {
+    runCase({seed % 2 ? PieceShape::Disc : PieceShape::Plate, Deformation::Sheet, false, 320, 200, 80, seed});
+    runCase({seed % 2 ? PieceShape::Plate : PieceShape::Disc, Deformation::Offset, false, 96, 64, 24, seed});
+  }
+}
+
+}  // namespace
+}  // namespace emboss

@@ -1,0 +1,156 @@
+// The cached displacement field: its error against the exact sum, bit-exact incremental updates,
+// and conservative bounds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstring>
+#include <vector>
+#include <numeric>
+#include <random>
+
+#include "bench/piece_generator.h"
+#include "render/renderer.h"
+
+namespace emboss {
+namespace {
+
+GeneratedPiece densePiece(int ops, unsigned seed) {
+  PieceOptions opt;
+  opt.width = 100, opt.height = 70;  // a third of A4's area, real tool sizes
+  return generatePiece(ops, seed, opt);
+}
+
+Grad exactDisplacement(const Model& m, double x, double y) {
+  Grad total(0.0);
+  for (size_t i = 0; i < m.activeCount(); ++i) {
+    const PreparedOp& op = m.operations()[i];
+    if (op.op().isOffset()) total += op.offset(P3<Grad>{Grad(x, 1, 0, 0), Grad(y, 0, 1, 0), Grad(0.0)}, Deformation::Sheet);
+  }
+  return total;
+}
+
+// The error bound documented in docs/rendering.md.
+TEST(HeightField, ErrorAgainstTheExactSumIsSmall) {
+  const GeneratedPiece piece = densePiece(1200, 5);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok());
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.sync(*model);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> ux(-50, 50), uy(-35, 35);
+  double maxErr = 0, maxSlopeErr = 0, maxD = 0;
+  std::vector<double> slopeErrs;
+  for (int i = 0; i < 20000; ++i) {
+    const double x = ux(rng), y = uy(rng);
+    const Grad e = exactDisplacement(*model, x, y);
+    double v, gx, gy;
+    r.field().valueAndGradient(x, y, v, gx, gy);
+    EXPECT_EQ(v, r.displacementAt(x, y));
+    maxErr = std::max(maxErr, std::abs(v - e.v));
+    maxSlopeErr = std::max(maxSlopeErr, std::hypot(gx - e.dx, gy - e.dy));
+    slopeErrs.push_back(std::hypot(gx - e.dx, gy - e.dy));
+    maxD = std::max(maxD, std::abs(e.v));
+  }
+  std::sort(slopeErrs.begin(), slopeErrs.end());
+  const double p99 = slopeErrs[slopeErrs.size() * 99 / 100];
+  RecordProperty("max_abs_error_mm", std::to_string(maxErr));
+  RecordProperty("max_slope_error", std::to_string(maxSlopeErr));
+  std::printf("field error: max |D - D_exact| = %.3g mm, |grad D - grad D_exact| max %.3g, 99th percentile %.3g (max |D| %.3g mm)\n",
+              maxErr, maxSlopeErr, p99, maxD);
+  EXPECT_GT(maxD, 1.0);  // a real relief
+  EXPECT_LT(maxErr, 1.5e-3);
+  EXPECT_LT(maxSlopeErr, 6e-2);  // at the creases of the narrowest tracers (docs/rendering.md)
+  EXPECT_LT(p99, 1e-2);
+}
+
+void expectSameSamples(const HeightField& a, const HeightField& b) {
+  ASSERT_EQ(a.nx(), b.nx());
+  ASSERT_EQ(a.ny(), b.ny());
+  for (int j = 0; j < a.ny(); ++j)
+    for (int i = 0; i < a.nx(); ++i)
+      ASSERT_EQ(0, std::memcmp(&a.sample(i, j), &b.sample(i, j), sizeof(HeightField::Sample))) << "sample " << i << ", " << j;
+}
+
+// Appends, undos (recomputed from scratch under the support), redos and replacing the redo tail
+// give the very bits of a field built at once.
+TEST(HeightField, IncrementalUpdatesEqualAFullBuildBitForBit) {
+  const GeneratedPiece piece = densePiece(300, 7);
+  ThreadPool pool(2);
+  Renderer live(pool);
+  Model model(piece.workpiece, piece.deformation);
+  live.sync(model);
+  PieceRandom rng(3);
+  for (size_t k = 0; k < piece.operations.size(); ++k) {
+    ASSERT_TRUE(model.add(piece.operations[k]).ok());
+    live.sync(model);
+    EXPECT_FALSE(live.lastSync().rebuilt);
+    if (k % 37 == 36) {
+      for (int u = 0; u < 5; ++u) model.undo();
+      live.sync(model);
+      if (k % 74 == 73) {
+        ASSERT_TRUE(model.add(randomPunch(rng, piece)).ok());  // drops the redo tail
+      } else {
+        for (int u = 0; u < 3; ++u) model.redo();
+      }
+      live.sync(model);
+    }
+    if (k % 50 == 0 || k + 1 == piece.operations.size()) {
+      Model fresh(piece.workpiece, piece.deformation);
+      for (size_t i = 0; i < model.activeCount(); ++i) ASSERT_TRUE(fresh.add(model.operations()[i].op()).ok());
+      Renderer full(pool);
+      full.sync(fresh);
+      ASSERT_TRUE(full.lastSync().rebuilt);
+      SCOPED_TRACE("after operation " + std::to_string(k));
+      expectSameSamples(live.field(), full.field());
+    }
+  }
+}
+
+// The pyramid's bounds hold the interpolated field and its slopes everywhere in their box.
+TEST(HeightField, BoundsAreConservative) {
+  const GeneratedPiece piece = densePiece(600, 9);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok());
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.sync(*model);
+  const HeightField& f = r.field();
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> ux(-50, 50), uy(-35, 35), size(0.0, 3.0), u01(0, 1);
+  for (int i = 0; i < 3000; ++i) {
+    const double x = ux(rng), y = uy(rng);
+    const Box2 box{x, y, x + size(rng) * size(rng), y + size(rng) * size(rng)};
+    const HeightField::Bound b = f.bound(box);
+    for (int k = 0; k < 30; ++k) {
+      const double px = box.x0 + u01(rng) * (box.x1 - box.x0), py = box.y0 + u01(rng) * (box.y1 - box.y0);
+      double v, gx, gy;
+      f.valueAndGradient(px, py, v, gx, gy);
+      ASSERT_GE(v, b.lo);
+      ASSERT_LE(v, b.hi);
+      ASSERT_GE(gx, b.gxlo);
+      ASSERT_LE(gx, b.gxhi);
+      ASSERT_GE(gy, b.gylo);
+      ASSERT_LE(gy, b.gyhi);
+    }
+  }
+}
+
+// The field is a function of the model alone: the same numbers in every sync order.
+TEST(HeightField, LatticeDependsOnTheWorkpieceOnly) {
+  const GeneratedPiece piece = densePiece(50, 11);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok());
+  ThreadPool pool(1);
+  Renderer a(pool), b(pool);
+  Model empty(piece.workpiece, piece.deformation);
+  a.sync(empty);
+  b.sync(*model);
+  EXPECT_EQ(a.field().domain().x0, b.field().domain().x0);
+  EXPECT_EQ(a.field().spacing(), b.field().spacing());
+  EXPECT_LE(a.field().spacing(), 0.125);
+}
+
+}  // namespace
+}  // namespace emboss

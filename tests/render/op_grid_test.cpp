@@ -1,0 +1,66 @@
+// The operation grid: candidates are exactly a superset of the operations whose support holds
+// the point, ascending and active only, through adds, undos, redos and replaced redo tails.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "bench/piece_generator.h"
+#include "frep/op_grid.h"
+
+namespace emboss {
+namespace {
+
+void checkAt(const OpGrid& grid, const Model& m, std::mt19937& rng) {
+  std::uniform_real_distribution<double> ux(-60, 60), uy(-45, 45);
+  std::vector<std::uint32_t> scratch;
+  for (int k = 0; k < 200; ++k) {
+    const double x = ux(rng), y = uy(rng);
+    const auto c = grid.at(x, y, scratch);
+    ASSERT_TRUE(std::is_sorted(c.begin(), c.end()));
+    for (std::uint32_t i : c) ASSERT_LT(i, m.activeCount());
+    for (size_t i = 0; i < m.activeCount(); ++i) {
+      if (m.operations()[i].support().contains(x, y)) {
+        ASSERT_TRUE(std::binary_search(c.begin(), c.end(), static_cast<std::uint32_t>(i))) << "operation " << i;
+      }
+    }
+    const Box2 box{x, y, x + 3.0, y + 1.5};
+    const auto in = grid.in(box, scratch);
+    ASSERT_TRUE(std::is_sorted(in.begin(), in.end()));
+    ASSERT_TRUE(std::adjacent_find(in.begin(), in.end()) == in.end());
+    for (size_t i = 0; i < m.activeCount(); ++i) {
+      if (m.operations()[i].support().overlaps(box)) {
+        ASSERT_TRUE(std::binary_search(in.begin(), in.end(), static_cast<std::uint32_t>(i))) << "operation " << i;
+      }
+    }
+  }
+}
+
+TEST(OpGrid, FollowsEditsIncrementally) {
+  PieceOptions opt;
+  opt.width = 100, opt.height = 70;
+  const GeneratedPiece piece = generatePiece(400, 21, opt);
+  Model m(piece.workpiece, piece.deformation);
+  OpGrid grid;
+  grid.sync(m);
+  std::mt19937 rng(5);
+  PieceRandom prng(8);
+  for (size_t k = 0; k < piece.operations.size(); ++k) {
+    ASSERT_TRUE(m.add(piece.operations[k]).ok());
+    EXPECT_EQ(grid.sync(m), 1u);  // only the new operation is inserted
+    if (k % 40 == 39) {
+      for (int u = 0; u < 6; ++u) m.undo();
+      EXPECT_EQ(grid.sync(m), 0u);  // undo costs nothing
+      checkAt(grid, m, rng);
+      for (int u = 0; u < 2; ++u) m.redo();
+      grid.sync(m);
+      ASSERT_TRUE(m.add(randomTraceSegment(prng, piece)).ok());
+      EXPECT_EQ(grid.sync(m), 1u);
+      checkAt(grid, m, rng);
+    }
+  }
+  checkAt(grid, m, rng);
+}
+
+}  // namespace
+}  // namespace emboss
