@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <vector>
 
 namespace emboss {
 
@@ -30,9 +34,88 @@ glm::dvec3 environment(const glm::dvec3& d) {
   return c;
 }
 
-glm::dvec3 schlick(const glm::dvec3& f0, double cosTheta) {
-  const double m = std::pow(1.0 - std::clamp(cosTheta, 0.0, 1.0), 5.0);
-  return f0 + (glm::dvec3(1.0) - f0) * m;
+
+}  // namespace
+
+namespace {
+
+// The rough lobe: the environment around the mirror direction r, blurred by the roughness with a
+// few fixed taps (no randomness: a pixel's colour depends only on its own inputs).
+glm::dvec3 roughEnvironment(const glm::dvec3& r, double rough) {
+  const glm::dvec3 t = glm::normalize(std::abs(r.z) < 0.9 ? glm::cross(r, glm::dvec3(0, 0, 1)) : glm::cross(r, glm::dvec3(1, 0, 0)));
+  const glm::dvec3 b = glm::cross(r, t);
+  constexpr int kTaps = 7;
+  static const double kOff[kTaps][2] = {{0, 0}, {1, 0}, {-0.5, 0.866}, {-0.5, -0.866}, {0.5, 0.866}, {-1, 0}, {0.5, -0.866}};
+  glm::dvec3 spec(0.0);
+  double wsum = 0.0;
+  for (int i = 0; i < kTaps; ++i) {
+    const double w = i == 0 ? 2.0 : 1.0;
+    spec += w * environment(glm::normalize(r + 0.45 * rough * (kOff[i][0] * t + kOff[i][1] * b)));
+    wsum += w;
+  }
+  return spec / wsum;
+}
+
+// The rough environment prefiltered into an octahedral map over the sphere of directions, one
+// per roughness: a pixel then costs one bilinear lookup instead of seven environment evaluations.
+// The map is computed by fixed code, so every run and every thread sees the same bits.
+class EnvironmentMap {
+ public:
+  static constexpr int kSize = 256;
+  explicit EnvironmentMap(double rough) : texels_(static_cast<size_t>(kSize) * kSize) {
+    for (int j = 0; j < kSize; ++j)
+      for (int i = 0; i < kSize; ++i) {
+        const glm::dvec3 d = decode((i + 0.5) / kSize * 2.0 - 1.0, (j + 0.5) / kSize * 2.0 - 1.0);
+        const glm::dvec3 c = roughEnvironment(d, rough);
+        texels_[static_cast<size_t>(j) * kSize + i] = glm::vec3(c);
+      }
+  }
+  glm::dvec3 lookup(const glm::dvec3& d) const {
+    // Octahedral encoding of a unit vector to [-1, 1]^2.
+    const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+    double u = d.x / l1, v = d.y / l1;
+    if (d.z < 0) {
+      const double ou = u;
+      u = (1.0 - std::abs(v)) * (ou >= 0 ? 1.0 : -1.0);
+      v = (1.0 - std::abs(ou)) * (v >= 0 ? 1.0 : -1.0);
+    }
+    const double fx = std::clamp((u + 1.0) * 0.5 * kSize - 0.5, 0.0, kSize - 1.0);
+    const double fy = std::clamp((v + 1.0) * 0.5 * kSize - 0.5, 0.0, kSize - 1.0);
+    const int x0 = std::min(static_cast<int>(fx), kSize - 2), y0 = std::min(static_cast<int>(fy), kSize - 2);
+    const double ax = fx - x0, ay = fy - y0;
+    const glm::vec3* row0 = &texels_[static_cast<size_t>(y0) * kSize + x0];
+    const glm::vec3* row1 = row0 + kSize;
+    const glm::dvec3 top = glm::mix(glm::dvec3(row0[0]), glm::dvec3(row0[1]), ax);
+    const glm::dvec3 bottom = glm::mix(glm::dvec3(row1[0]), glm::dvec3(row1[1]), ax);
+    return glm::mix(top, bottom, ay);
+  }
+
+ private:
+  static glm::dvec3 decode(double u, double v) {
+    glm::dvec3 d(u, v, 1.0 - std::abs(u) - std::abs(v));
+    if (d.z < 0) {
+      const double ou = d.x;
+      d.x = (1.0 - std::abs(d.y)) * (ou >= 0 ? 1.0 : -1.0);
+      d.y = (1.0 - std::abs(ou)) * (d.y >= 0 ? 1.0 : -1.0);
+    }
+    return glm::normalize(d);
+  }
+  std::vector<glm::vec3> texels_;
+};
+
+const EnvironmentMap& environmentMapFor(double rough) {
+  // A few metals, a few roughnesses: the maps live for the program's life.
+  thread_local double lastRough = -1.0;
+  thread_local const EnvironmentMap* last = nullptr;
+  if (last && lastRough == rough) return *last;
+  static std::mutex mutex;
+  static std::map<double, std::unique_ptr<EnvironmentMap>> maps;
+  std::lock_guard lock(mutex);
+  auto& slot = maps[rough];
+  if (!slot) slot = std::make_unique<EnvironmentMap>(rough);
+  lastRough = rough;
+  last = slot.get();
+  return *last;
 }
 
 }  // namespace
@@ -49,26 +132,12 @@ glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dv
     const double k = s.tinge.strength * (0.25 + 0.75 * depth);
     f0 = glm::mix(f0, f0 * glm::dvec3(s.tinge.color[0], s.tinge.color[1], s.tinge.color[2]), k);
   }
-  const glm::dvec3 fresnel = schlick(f0, cosV);
-  // A rough lobe approximated by blending the mirror direction toward the normal, sampled at a few
-  // fixed directions (no randomness: a pixel's colour depends only on its own inputs).
-  const double rough = s.metal.roughness;
-  glm::dvec3 spec(0.0);
-  const glm::dvec3 t = glm::normalize(glm::abs(r.z) < 0.9 ? glm::cross(r, glm::dvec3(0, 0, 1)) : glm::cross(r, glm::dvec3(1, 0, 0)));
-  const glm::dvec3 b = glm::cross(r, t);
-  constexpr int kTaps = 7;
-  static const double kOff[kTaps][2] = {{0, 0}, {1, 0}, {-0.5, 0.866}, {-0.5, -0.866}, {0.5, 0.866}, {-1, 0}, {0.5, -0.866}};
-  double wsum = 0.0;
-  for (int i = 0; i < kTaps; ++i) {
-    const double w = i == 0 ? 2.0 : 1.0;
-    glm::dvec3 d = glm::normalize(r + 0.45 * rough * (kOff[i][0] * t + kOff[i][1] * b));
-    if (glm::dot(d, n) < 0) d = glm::normalize(d - 2.0 * glm::dot(d, n) * n);
-    spec += w * environment(d);
-    wsum += w;
-  }
-  spec /= wsum;
+  const double m = 1.0 - std::clamp(cosV, 0.0, 1.0);
+  const double m2 = m * m;
+  const glm::dvec3 fresnel = f0 + (glm::dvec3(1.0) - f0) * (m2 * m2 * m);
+  const glm::dvec3 spec = environmentMapFor(s.metal.roughness).lookup(r);
   // A little diffuse from the metal's oxide skin keeps the dark side from going black.
-  const double lambert = std::max(0.0, glm::dot(n, glm::normalize(glm::dvec3(-0.4, 0.6, 0.7))));
+  const double lambert = std::max(0.0, glm::dot(n, glm::dvec3(-0.4, 0.6, 0.7) / std::sqrt(1.01)));
   return fresnel * spec + f0 * 0.04 * (0.3 + lambert);
 }
 
