@@ -7,54 +7,16 @@
 #include <fstream>
 #include <sstream>
 
+#include "input/text_fields.h"
+
 namespace emboss {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
-
-std::vector<std::string_view> splitWords(std::string_view s) {
-  std::vector<std::string_view> out;
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    const size_t start = i;
-    while (i < s.size() && !std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    if (i > start) out.push_back(s.substr(start, i - start));
-  }
-  return out;
-}
-
-template <class T>
-bool parseInt(std::string_view s, T& out, int base = 10) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
-  const auto* end = s.data() + s.size();
-  const auto r = std::from_chars(s.data(), end, out, base);
-  return r.ec == std::errc() && r.ptr == end;
-}
-
-bool parseTime(std::string_view s, double& out) {
-  const size_t dot = s.find('.');
-  int64_t sec = 0;
-  int64_t frac = 0;
-  if (dot == std::string_view::npos) {
-    if (!parseInt(s, sec)) return false;
-    out = static_cast<double>(sec);
-    return true;
-  }
-  std::string_view fs = s.substr(dot + 1);
-  if (!parseInt(s.substr(0, dot), sec) || fs.empty() || fs.size() > 9 || fs.front() == '-') return false;
-  if (!parseInt(fs, frac)) return false;
-  double scale = 1.0;
-  for (size_t i = 0; i < fs.size(); ++i) scale *= 10.0;
-  out = static_cast<double>(sec) + static_cast<double>(frac) / scale;
-  return true;
-}
+using text::parseInt;
+using text::parseTime;
+using text::splitWords;
+using text::trim;
 
 Error lineError(size_t line, std::string_view what, std::string_view text) {
   std::string t(text.substr(0, 80));

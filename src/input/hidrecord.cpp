@@ -8,45 +8,15 @@
 #include <sstream>
 
 #include "input/hid_decode.h"
+#include "input/text_fields.h"
 
 namespace emboss {
 
 namespace {
 
-std::vector<std::string_view> words(std::string_view s) {
-  std::vector<std::string_view> out;
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    const size_t start = i;
-    while (i < s.size() && !std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    if (i > start) out.push_back(s.substr(start, i - start));
-  }
-  return out;
-}
-
-template <class T>
-bool num(std::string_view s, T& out, int base = 10) {
-  if (s.empty()) return false;
-  const auto* end = s.data() + s.size();
-  const auto r = std::from_chars(s.data(), end, out, base);
-  return r.ec == std::errc() && r.ptr == end;
-}
-
-bool parseTime(std::string_view s, double& out) {
-  const size_t dot = s.find('.');
-  uint64_t sec = 0;
-  uint64_t frac = 0;
-  if (!num(s.substr(0, dot), sec)) return false;
-  double scale = 1.0;
-  if (dot != std::string_view::npos) {
-    const auto fs = s.substr(dot + 1);
-    if (fs.empty() || fs.size() > 9 || !num(fs, frac)) return false;
-    for (size_t i = 0; i < fs.size(); ++i) scale *= 10.0;
-  }
-  out = static_cast<double>(sec) + static_cast<double>(frac) / scale;
-  return true;
-}
+using text::parseInt;
+using text::parseTime;
+using text::splitWords;
 
 Error bad(size_t line, const std::string& what) { return fail("hid-recorder line " + std::to_string(line) + ": " + what); }
 
@@ -54,7 +24,7 @@ Error bad(size_t line, const std::string& what) { return fail("hid-recorder line
 Result<std::vector<uint8_t>> lengthAndBytes(const std::vector<std::string_view>& w, size_t first, size_t line) {
   if (w.size() <= first) return bad(line, "missing the byte count");
   size_t n = 0;
-  if (!num(w[first], n)) return bad(line, "the byte count is not a number");
+  if (!parseInt(w[first], n)) return bad(line, "the byte count is not a number");
   if (w.size() - first - 1 != n) {
     return bad(line, "says " + std::to_string(n) + " bytes but has " + std::to_string(w.size() - first - 1));
   }
@@ -62,7 +32,7 @@ Result<std::vector<uint8_t>> lengthAndBytes(const std::vector<std::string_view>&
   bytes.reserve(n);
   for (size_t i = first + 1; i < w.size(); ++i) {
     uint8_t b = 0;
-    if (w[i].size() > 2 || !num(w[i], b, 16)) return bad(line, "\"" + std::string(w[i].substr(0, 8)) + "\" is not a hex byte");
+    if (w[i].size() > 2 || !parseInt(w[i], b, 16)) return bad(line, "\"" + std::string(w[i].substr(0, 8)) + "\" is not a hex byte");
     bytes.push_back(b);
   }
   return bytes;
@@ -89,8 +59,8 @@ Result<HidRecording> parseHidRecord(std::string_view text) {
     const char kind = line[0];
     const std::string_view body = line.substr(2);
     if (kind == 'D') {
-      const auto w = words(body);
-      if (w.empty() || !num(w[0], device) || device < 0) return bad(lineNo, "D: needs a device number");
+      const auto w = splitWords(body);
+      if (w.empty() || !parseInt(w[0], device) || device < 0) return bad(lineNo, "D: needs a device number");
       if (!firstDevice) firstDevice = device;
       continue;
     }
@@ -118,11 +88,11 @@ Result<HidRecording> parseHidRecord(std::string_view text) {
         break;
       }
       case 'I': {
-        const auto w = words(body);
+        const auto w = splitWords(body);
         uint16_t v[3] = {0, 0, 0};
         if (w.size() < 3) return bad(lineNo, "I: needs bus vendor product");
         for (int i = 0; i < 3; ++i) {
-          if (!num(w[static_cast<size_t>(i)], v[i], 16)) return bad(lineNo, "I: values must be hex");
+          if (!parseInt(w[static_cast<size_t>(i)], v[i], 16)) return bad(lineNo, "I: values must be hex");
         }
         if (haveId && (v[1] != rec.vendorId || v[2] != rec.productId)) return bad(lineNo, "a second, different I: line for the same device");
         rec.bus = v[0];
@@ -132,7 +102,7 @@ Result<HidRecording> parseHidRecord(std::string_view text) {
         break;
       }
       case 'E': {
-        const auto w = words(body);
+        const auto w = splitWords(body);
         if (w.empty()) return bad(lineNo, "E: needs a time stamp");
         HidRecordReport r;
         if (!parseTime(w[0], r.time_s)) return bad(lineNo, "E: bad time stamp");
