@@ -68,7 +68,7 @@ Result<HidRecording> parseHidRecord(std::string_view text) {
     if (device != *firstDevice) continue;
     switch (kind) {
       case 'R': {
-        auto bytes = lengthAndBytes(words(body), 0, lineNo);
+        auto bytes = lengthAndBytes(splitWords(body), 0, lineNo);
         if (!bytes) return Error{bytes.error()};
         if (haveDescriptor && *bytes != rec.descriptor) return bad(lineNo, "a second, different R: descriptor for the same device");
         rec.descriptor = std::move(*bytes);
