@@ -21,6 +21,8 @@
 #include "app/memory_display.h"
 #include "app/pointer_input.h"
 #include "buttons_gpio.h"
+#include "camera_file.h"
+#include "camera_v4l2.h"
 #include "devices/button_config.h"
 #include "display_factory.h"
 #include "display_kms.h"
@@ -82,7 +84,7 @@ PointerEvent toPointer(const X11Event& e) {
 
 int main(int argc, char** argv) {
   CLI::App cli{"emboss-kiosk: the virtual embossing exhibit (attract mode, the visitor's bench, staff mode)"};
-  std::string display, tablet, buttons, configPath, size, snapshot, sessionOut, sessionsDir, piecesDir, exportDir, writePiecesDir;
+  std::string display, tablet, buttons, camera, configPath, size, snapshot, sessionOut, sessionsDir, piecesDir, exportDir, writePiecesDir;
   bool attractOnly = false, staff = false, fast = false, stats = false;
   double runFor = 0;
   int threads = -1;
@@ -90,6 +92,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "kms", "x11", "headless", "osmesa"}));
   cli.add_option("--tablet", tablet, "auto (find a tablet) | evemu:PATH (replay a recording) | none");
   cli.add_option("--buttons", buttons, "auto (GPIO, built-in wiring) | PATH of a buttons.json | none");
+  cli.add_option("--camera", camera, "auto (the first V4L2 camera) | /dev/videoN | file:PNG | none: for capture drawing");
   cli.add_flag("--attract", attractOnly, "Attract mode only: play the pieces, ignore pen and buttons");
   cli.add_flag("--staff", staff, "Start in staff mode");
   cli.add_option("--run-for", runFor, "Stop after SECONDS")->check(CLI::NonNegativeNumber);
@@ -124,6 +127,13 @@ int main(int argc, char** argv) {
     if (!display.empty()) config.display = display;
     if (!tablet.empty()) config.tablet = tablet;
     if (!buttons.empty()) config.buttons = buttons;
+    if (!camera.empty()) {
+      if (camera != "auto" && camera != "none" && camera.rfind("/dev/", 0) != 0 && !(camera.size() > 5 && camera.rfind("file:", 0) == 0)) {
+        logLine("--camera must be auto, none, /dev/videoN or file:PNG, not '" + camera + "'");
+        return 2;
+      }
+      config.camera = camera;
+    }
     if (!size.empty() && !parseSizeWxH(size, config.width, config.height)) {
       logLine("--size must be WxH, e.g. 1280x800 (16..16384 each), not '" + size + "'");
       return 2;
@@ -205,9 +215,10 @@ int main(int argc, char** argv) {
       start.attractPiece = index;
       start.attractDone = fraction;
     }
+    // Declared before the app: a still under way on the app's capture thread uses it until the app is gone.
+    std::unique_ptr<CameraSource> cam;
     KioskApp app(config, std::move(pieces), *screen, logLine, clock, start);
     app.setDeviceNote("Service manager", notifier->name());
-    app.setDeviceNote("Camera", "not used by the kiosk yet");
 
     // ---- input: a recording, a tablet, the mouse; GPIO buttons, the keyboard
     std::unique_ptr<PenSource> pen;
@@ -260,9 +271,28 @@ int main(int argc, char** argv) {
       }
     }
 
+    // ---- the camera for capture drawing: optional; looked for again every 3 s while there is none
+    const bool wantCamera = !attractOnly && config.camera != "none";
+    std::string lastCameraError;
+    auto openCamera = [&] {
+      Result<std::unique_ptr<CameraSource>> r = config.camera.rfind("file:", 0) == 0 ? openFileCamera(config.camera.substr(5))
+                                                                                      : openV4l2Camera(config.camera);
+      if (r) {
+        cam = std::move(*r);
+        app.setCamera(cam.get());
+        logLine("camera: " + cam->name() + " (capture drawing on)");
+        lastCameraError.clear();
+      } else if (r.error() != lastCameraError) {
+        lastCameraError = r.error();
+        logLine(r.error() + (lastCameraError.find("capture drawing") == std::string::npos ? "; capture drawing is off" : "") +
+                "; looking again every 3 s");
+      }
+    };
+    if (wantCamera) openCamera();
+
     notifier->ready(attractOnly ? "attract mode only" : "attract mode");
     const double t0 = monotonicSeconds();
-    double lastProbe = t0, lastDisplayTry = t0;
+    double lastProbe = t0, lastDisplayTry = t0, lastCameraProbe = t0;
     std::vector<X11Event> xev;
     bool closed = false;
     while (!gStop) {
@@ -298,6 +328,16 @@ int main(int argc, char** argv) {
           logLine("tablet: " + pen->name());
           attachPen();
         }
+      }
+      // A lost camera: dropped, and looked for again every 3 s (capture drawing is off meanwhile).
+      if (app.cameraLost()) {
+        app.setCamera(nullptr);
+        cam.reset();
+        lastCameraProbe = now;
+      }
+      if (wantCamera && !cam && now - lastCameraProbe > 3.0) {
+        lastCameraProbe = now;
+        openCamera();
       }
       if (app.displayLost() && now - lastDisplayTry > 2.0) {
         lastDisplayTry = now;

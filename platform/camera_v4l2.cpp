@@ -20,23 +20,11 @@
 #include <utility>
 
 #include "camera_decode.h"
+#include "platform_util.h"
 
 namespace emboss {
 
 namespace {
-
-void logOnce(const std::string& message) {
-  static std::mutex mutex;
-  static std::set<std::string> logged;
-  std::lock_guard<std::mutex> lock(mutex);
-  if (logged.insert(message).second) std::fprintf(stderr, "emboss: %s\n", message.c_str());
-}
-
-double nowSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + ts.tv_nsec * 1e-9;
-}
 
 // ioctl, retried when a signal interrupts it; -errno on failure.
 int xioctl(int fd, unsigned long request, void* arg) {
@@ -234,6 +222,17 @@ Error V4l2Camera::lose(const std::string& why) {
   return fail(message);
 }
 
+bool V4l2Camera::present() {
+  if (!fd_.valid()) return false;
+  v4l2_capability cap{};
+  const int rc = xioctl(fd_.get(), VIDIOC_QUERYCAP, &cap);
+  if (rc < 0 && isLoss(-rc)) {
+    lose("is gone (unplugged?)");
+    return false;
+  }
+  return true;  // another error (never seen) is not taken for a loss: the next capture tells
+}
+
 Result<Image> V4l2Camera::convert(const std::uint8_t* data, size_t bytes) const {
   if (pixelFormat_ == V4L2_PIX_FMT_YUYV) return yuyvToRgba(std::span(data, bytes), width_, height_, bytesPerLine_, fullRange_);
   return decodeMjpeg(std::span(data, bytes));
@@ -272,10 +271,10 @@ Result<Image> V4l2Camera::capture() {
   int frames = 0, bad = 0;
   std::string lastBad;
   for (;;) {
-    const double deadline = nowSeconds() + options_.frameTimeoutS;
+    const double deadline = monotonicSeconds() + options_.frameTimeoutS;
     v4l2_buffer b{};
     for (;;) {
-      const double left = deadline - nowSeconds();
+      const double left = deadline - monotonicSeconds();
       if (left <= 0) {
         char t[32];
         std::snprintf(t, sizeof t, "%.1f", options_.frameTimeoutS);

@@ -42,6 +42,10 @@ class V4l2Camera final : public CameraSource {
   Result<Image> capture() override;
   // True while the camera is closed after a loss, waiting to be reopened.
   bool lost() const { return !fd_.valid(); }
+  // Asks the open node whether it is still there (VIDIOC_QUERYCAP, no streaming): a camera that
+  // was unplugged answers ENODEV and is then closed as after a failed capture (lost() becomes
+  // true, its buffers are released). False while lost.
+  bool present() override;
 
  private:
   // One mmap'ed driver buffer, unmapped on destruction.

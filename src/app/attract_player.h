@@ -29,6 +29,12 @@ class AttractPlayer {
   // just started shows a piece under way rather than a bare sheet).
   void start(double now, size_t index = 0, double doneFraction = 0.0);
   void update(double now);
+  // Holds the replay for `seconds` (everything happens that much later): after a stall of the
+  // main loop the piece goes on where it was instead of adding a stall's worth of operations at once.
+  void hold(double seconds) {
+    buildStart_ += seconds;
+    phaseStart_ += seconds;
+  }
 
   const Model& model() const { return *model_; }
   const CameraSpec& camera() const { return camera_; }

@@ -2,6 +2,7 @@
 #include "app/kiosk_app.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -17,9 +18,12 @@ namespace {
 constexpr double kFrameSeconds = 1.0 / 60.0;  // one display frame: how much of a recording --fast feeds per step
 constexpr double kBudgetMs = 35.0;            // tracing per step beyond the dirty rectangles
 constexpr double kAnimationPeriod = 1.0 / 30.0;
+constexpr double kMaxAttractGap = 0.25;       // a longer step is a stall: attract mode does not catch up
 
-const char* const kStaffMenu[] = {"Back to the exhibit", "Export sessions", "Reset the exhibit"};
-constexpr size_t kStaffItems = 3;
+const char* const kStaffMenu[] = {"Back to the exhibit", "Export sessions", "Reset the exhibit", "Capture a drawing"};
+constexpr size_t kStaffItems = 4;
+constexpr double kCameraCheckSeconds = 2.0;  // how often an idle camera is asked whether it is still there
+constexpr double kCaptureNoteSeconds = 8.0;  // how long a capture's outcome stays on the screen
 
 std::string fmt(const char* f, double a) {
   char buf[128];
@@ -105,6 +109,16 @@ void KioskApp::setDisplay(Display& display) {
 
 void KioskApp::setDeviceNote(const std::string& key, const std::string& value) { deviceNotes_[key] = value; }
 
+void KioskApp::setCamera(CameraSource* camera) {
+  if (camera != camera_ && capture_.phase == CapturePhase::Running && capture_.job.valid()) {
+    capture_.job.wait();  // the still under way uses the old camera
+    pollCapture(clock_());
+  }
+  camera_ = camera;
+  cameraLost_ = false;
+  lastCameraCheck_ = clock_();
+}
+
 const FpsMeter& KioskApp::fps(KioskMode m) const {
   static const FpsMeter none;
   const auto it = fps_.find(m);
@@ -157,11 +171,13 @@ void KioskApp::handleEvents(double now) {
       case KioskEvent::VisitorArrived:
         bench_->resetForVisitor(now);
         sessionStarted_ = now;
+        discardCapture("a new visitor");
         break;
       case KioskEvent::CountdownStarted: bench_->penAway(); break;
       case KioskEvent::VisitorBack: break;
       case KioskEvent::SessionEnded:
         saveSession("the visitor left");
+        discardCapture("the visitor left");
         bench_->resetForVisitor(now);
         startAttract(now, attract_->empty() ? 0 : (attract_->pieceIndex() + 1) % attract_->size(), 0.0);
         break;
@@ -194,11 +210,25 @@ void KioskApp::handleButton(const ButtonEvent& e, double now) {
         case Action::NewSheet:
         case Action::Redo: staffActivate(staff_.selected); break;
         case Action::Undo: staffActivate(0); break;
+        case Action::Capture: staffActivate(3); break;
         default: break;
       }
       break;
     case KioskMode::Visitor:
-      if (e.action == Action::NewSheet) saveSession("a new sheet");
+      if (e.action == Action::Capture) {
+        if (capture_.phase == CapturePhase::Offer) acceptCapture(now);
+        else startCapture(now);
+        break;
+      }
+      if (e.action == Action::Undo && capture_.phase == CapturePhase::Offer) {
+        discardCapture("undo");
+        captureNote(now, "The drawing was put away", false);
+        break;
+      }
+      if (e.action == Action::NewSheet) {
+        saveSession("a new sheet");
+        discardCapture("a new sheet");
+      }
       bench_->apply(e.action, now);
       break;
     default: break;
@@ -311,6 +341,23 @@ void KioskApp::staffActivate(size_t index) {
       if (log_) log_("staff: the exhibit was reset");
       break;
     }
+    case 3:
+      // Capture a drawing for the bench: back to it (a fresh visitor's sheet when staff mode was
+      // entered from attract mode), and the still is taken there, where its guide will show.
+      if (!camera_) {
+        staff_.message = "No camera: plug in a USB camera (capture drawing is off until then)";
+        staff_.messageIsError = true;
+        if (log_) log_("staff: capture: no camera");
+        break;
+      }
+      states_.leaveStaff(now);
+      handleEvents(now);
+      if (states_.mode() == KioskMode::Attract) {
+        states_.penTouch(now);
+        handleEvents(now);
+      }
+      startCapture(now);
+      break;
     default: break;
   }
 }
@@ -324,6 +371,8 @@ void KioskApp::updateStaffView(double now) {
   std::string b;
   for (auto* s : buttons_) b += (b.empty() ? "" : ", ") + s->name();
   L.push_back("Buttons: " + (b.empty() ? std::string("none") : b));
+  L.push_back("Camera: " + (camera_ ? (capture_.phase == CapturePhase::Running ? std::string("taking a still") : camera_->name())
+                                    : std::string("none (capture drawing is off)")));
   for (const auto& [k, v] : deviceNotes_) L.push_back(k + ": " + v);
   std::string rates;
   for (KioskMode m : {KioskMode::Attract, KioskMode::Visitor})
@@ -361,7 +410,126 @@ Overlay KioskApp::overlay(double now) const {
   s.countdownLeft = states_.countdownLeft(now);
   s.countdownTotal = config_.countdownSeconds;
   s.staff = staff_;
+  s.capturing = capture_.phase == CapturePhase::Running;
+  s.captureOffered = capture_.phase == CapturePhase::Offer;
+  if (now < capture_.messageUntil) {
+    s.captureMessage = capture_.message;
+    s.captureMessageIsError = capture_.messageIsError;
+  }
+  if (capture_.offer && (s.mode == KioskMode::Visitor || s.mode == KioskMode::StillThere)) {
+    // The traced lines on the plate's front face, through the bench's camera as it is now.
+    const Camera cam(bench_->camera(), composer_->width(), composer_->height());
+    const double z = bench_->model().workpiecePtr()->bounds().z1;
+    for (const auto& line : capture_.offer->polylines) {
+      std::vector<std::pair<double, double>> screen;
+      for (const Vec2& p : line)
+        if (const auto q = cam.project({p.x, p.y, z})) screen.emplace_back(q->x, q->y);
+      if (!screen.empty()) s.guide.push_back(std::move(screen));
+    }
+  }
   return buildOverlay(s);
+}
+
+void KioskApp::captureNote(double now, const std::string& message, bool error) {
+  capture_.message = message;
+  capture_.messageIsError = error;
+  capture_.messageUntil = now + kCaptureNoteSeconds;
+  overlayChanged_ = true;
+}
+
+void KioskApp::startCapture(double now) {
+  if (capture_.phase == CapturePhase::Running) return;
+  if (!camera_) {
+    captureNote(now, "No camera", true);
+    if (log_) log_("capture: no camera (plug in a USB camera; the kiosk looks for one every few seconds)");
+    return;
+  }
+  discardCapture("a new capture");
+  bench_->finishStroke();
+  const Box3 b = bench_->model().workpiecePtr()->bounds();
+  const double plateW = b.x1 - b.x0, plateH = b.y1 - b.y0;
+  CaptureOptions options;
+  options.metal = std::string(bench_->metal().name);
+  CameraSource* camera = camera_;
+  // The still (about 0.2 s of streaming) and the tracing (0.1 to 0.5 s) run on their own thread;
+  // the main loop goes on rendering and polls the result every step.
+  capture_.job = std::async(std::launch::async, [camera, plateW, plateH, options]() -> Result<CaptureResult> {
+    auto photo = camera->capture();
+    if (!photo) return fail(photo.error());
+    return captureDrawing(*photo, plateW, plateH, options);
+  });
+  capture_.phase = CapturePhase::Running;
+  capture_.dropResult = false;
+  capture_.started = now;
+  overlayChanged_ = true;
+  if (log_) log_("capture: taking a still with " + camera->name());
+}
+
+void KioskApp::pollCapture(double now) {
+  if (capture_.phase != CapturePhase::Running || !capture_.job.valid()) return;
+  if (capture_.job.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  Result<CaptureResult> r = capture_.job.get();
+  capture_.phase = CapturePhase::Idle;
+  overlayChanged_ = true;
+  const double secs = now - capture_.started;
+  if (capture_.dropResult) {
+    if (log_) log_("capture: the result came after the visitor left; dropped");
+    return;
+  }
+  if (!r) {
+    if (log_) log_("capture: " + r.error());
+    // A camera gone is noticed at once rather than at the next check.
+    if (camera_ && !camera_->present()) {
+      if (log_) log_("camera: '" + camera_->name() + "' is gone; capture drawing is off until a camera is back");
+      camera_ = nullptr;
+      cameraLost_ = true;
+    }
+    const bool noSheet = r.error().find("no sheet") != std::string::npos;
+    const bool noDrawing = r.error().find("no drawing") != std::string::npos;
+    captureNote(now, noSheet ? "No sheet of paper found: hold it flat under the camera" :
+                noDrawing ? "No drawing found on the sheet" : "The camera did not give a picture", true);
+    return;
+  }
+  if (r->operations.empty()) {
+    captureNote(now, "No drawing found on the sheet", true);
+    if (log_) log_("capture: the drawing gave no lines to emboss");
+    return;
+  }
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "capture: %zu lines, %zu operations, traced in %.1f s; offered (capture again: emboss, undo: put away)",
+                r->polylines.size(), r->operations.size(), secs);
+  if (log_) log_(buf);
+  capture_.offer = std::move(*r);
+  capture_.phase = CapturePhase::Offer;
+  captureNote(now, "Your drawing: press capture again to emboss it, undo to put it away", false);
+}
+
+void KioskApp::acceptCapture(double now) {
+  if (!capture_.offer) return;
+  const size_t n = bench_->addStroke(capture_.offer->operations);
+  lastCommitted_ = bench_->committed();  // not a pen event's latency
+  capture_.offer.reset();
+  capture_.phase = CapturePhase::Idle;
+  captureNote(now, "Embossed: undo takes it back", false);
+  if (log_) log_("capture: the drawing was embossed (" + std::to_string(n) + " operations, one undo takes them back)");
+}
+
+void KioskApp::discardCapture(const std::string& why) {
+  if (capture_.phase == CapturePhase::Running) capture_.dropResult = true;
+  if (!capture_.offer) return;
+  capture_.offer.reset();
+  capture_.phase = CapturePhase::Idle;
+  overlayChanged_ = true;
+  if (log_) log_("capture: the drawing on offer was put away (" + why + ")");
+}
+
+void KioskApp::checkCamera(double now) {
+  if (!camera_ || capture_.phase == CapturePhase::Running || now - lastCameraCheck_ < kCameraCheckSeconds) return;
+  lastCameraCheck_ = now;
+  if (camera_->present()) return;
+  if (log_) log_("camera: '" + camera_->name() + "' is gone; capture drawing is off until a camera is back");
+  camera_ = nullptr;
+  cameraLost_ = true;
 }
 
 void KioskApp::present(double now, std::vector<Rect>& changed, bool modelChanged) {
@@ -377,15 +545,22 @@ void KioskApp::present(double now, std::vector<Rect>& changed, bool modelChanged
   firstPresent_ = false;
   const double t = clock_();
   lastPresent_ = t;
-  ++presents_;
+  if (presents_++ == 0 && log_) log_(fmt("first frame on the screen %.1f s after start", t - started_));
   fps_[states_.mode()].frame(t);
   if (!changed.empty()) ++pictureUpdates_;
   if (modelChanged) latency_.presented(t);
 }
 
 bool KioskApp::step() {
+  // Wall-clock phases of this step, for the log line of a stalled step (see the end).
+  using Steady = std::chrono::steady_clock;
+  const Steady::time_point tStart = Steady::now();
   const double now = clock_();
   fps_[states_.mode()].time(std::max(0.0, now - lastStep_));
+  // After a stall (a slow start, a long trace on a slow board) attract mode goes on where it was:
+  // catching up would add the stall's operations at once and make the next step slow in turn.
+  if (const double gap = now - lastStep_; gap > kMaxAttractGap && states_.mode() == KioskMode::Attract && !attract_->empty())
+    attract_->hold(gap - kFrameSeconds);
   lastStep_ = now;
   changed_.clear();
   const size_t queuedBefore = queue_.size();
@@ -412,7 +587,14 @@ bool KioskApp::step() {
   }
   states_.tick(now);
   handleEvents(now);
+  pollCapture(now);
+  checkCamera(now);
+  if (!capture_.message.empty() && now >= capture_.messageUntil) {
+    capture_.message.clear();
+    overlayChanged_ = true;
+  }
 
+  const Steady::time_point tInput = Steady::now();
   const KioskMode m = states_.mode();
   const bool showBench = m == KioskMode::Visitor || m == KioskMode::StillThere ||
                          (m == KioskMode::Staff && states_.modeBeforeStaff() != KioskMode::Attract);
@@ -435,14 +617,30 @@ bool KioskApp::step() {
     benchShown_ = false;
     composer_->show(attract_->model(), attract_->camera(), attract_->shading(), ch, attract_->moving());
   }
+  const Steady::time_point tModel = Steady::now();
   composer_->work(kBudgetMs, changed_);
-  const bool animated = m != KioskMode::Visitor;
-  if (!changed_.empty() || input || firstPresent_ || (animated && clock_() - lastPresent_ >= kAnimationPeriod))
+  const Steady::time_point tTrace = Steady::now();
+  const bool animated = m != KioskMode::Visitor || capture_.phase == CapturePhase::Running;
+  if (!changed_.empty() || input || firstPresent_ || overlayChanged_ || (animated && clock_() - lastPresent_ >= kAnimationPeriod)) {
+    overlayChanged_ = false;
     present(clock_(), changed_, modelChanged && !changed_.empty());
+  }
   if (m == KioskMode::Staff) updateStaffView(now);
   if (sessions_->pendingCount() && now - lastRetry_ > 30.0) {
     lastRetry_ = now;
     sessions_->retryPending();
+  }
+  // A step that holds the loop up for a second or more is logged (at most every 10 s) with where
+  // its time went: on a slow board that is the first thing to look at.
+  const auto secs = [](Steady::time_point a, Steady::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  const Steady::time_point tEnd = Steady::now();
+  if (secs(tStart, tEnd) >= 1.0 && log_ && secs(lastSlowLog_, tEnd) >= 10.0) {
+    lastSlowLog_ = tEnd;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "slow step: %.2f s (input %.2f, model %.2f, tracing %.2f, presenting %.2f; %zu operations on the bench)",
+                  secs(tStart, tEnd), secs(tStart, tInput), secs(tInput, tModel), secs(tModel, tTrace), secs(tTrace, tEnd),
+                  bench_->model().activeCount());
+    log_(buf);
   }
   return !quit_;
 }

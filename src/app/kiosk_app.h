@@ -2,9 +2,11 @@
 // time through the device interfaces (src/devices) only.
 #pragma once
 
+#include <chrono>
 #include <deque>
 #include <filesystem>
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
@@ -20,7 +22,9 @@
 #include "app/kiosk_states.h"
 #include "app/session_store.h"
 #include "app/workbench.h"
+#include "capture/capture_drawing.h"
 #include "devices/buttons.h"
+#include "devices/camera.h"
 #include "devices/display.h"
 #include "devices/pen.h"
 
@@ -56,6 +60,8 @@ class KioskApp {
   void setDisplay(Display& display);
   // A line for the staff screen's device list ("tablet", "evdev: Wacom ..."), set by main().
   void setDeviceNote(const std::string& key, const std::string& value);
+  // The camera for capture drawing (null: none). A capture under way finishes first.
+  void setCamera(CameraSource* camera);
 
   // One main-loop iteration: input, states, views, tracing within a frame budget, presenting.
   // Returns false once quitting was asked for (the keyboard's Escape in development).
@@ -67,6 +73,20 @@ class KioskApp {
   // A recording fed with fast has been played to its end and every sample taken.
   bool feedDone() const;
   bool displayLost() const { return displayLost_; }
+  // The camera stopped answering (CameraSource::present() false, checked every 2 s while no
+  // capture runs); main() may drop it, look for another and call setCamera().
+  bool cameraLost() const { return cameraLost_; }
+
+  // Capture drawing (docs/kiosk.md): the capture action (a button, the key 'c', the staff menu)
+  // takes a still and traces it off the render thread; the traced lines are then shown on the
+  // plate as a guide and offered: the capture action again embosses them (one stroke, one undo),
+  // undo discards them.
+  enum class CapturePhase { Idle, Running, Offer };
+  CapturePhase capturePhase() const { return capture_.phase; }
+  // The traced drawing on offer (CapturePhase::Offer), else null.
+  const CaptureResult* captureOffer() const { return capture_.offer ? &*capture_.offer : nullptr; }
+  // The last capture's outcome as shown to the visitor (empty once it has faded).
+  const std::string& captureMessage() const { return capture_.message; }
 
   // At exit: ends a stroke in progress, saves a visitor's session (nothing is lost on shutdown),
   // finishes tracing and presents the last frame.
@@ -89,7 +109,8 @@ class KioskApp {
   size_t presents() const { return presents_; }
   // Staff mode's last message (export result, reset).
   const std::string& staffMessage() const { return staff_.message; }
-  // Runs a staff menu entry by index (0 resume, 1 export, 2 reset), as a tap or press would.
+  // Runs a staff menu entry by index (0 resume, 1 export, 2 reset, 3 capture a drawing), as a tap
+  // or press would.
   void staffActivate(size_t index);
 
  private:
@@ -106,6 +127,12 @@ class KioskApp {
   void updateStaffView(double now);
   void present(double now, std::vector<Rect>& changed, bool modelChanged);
   Overlay overlay(double now) const;
+  void startCapture(double now);
+  void pollCapture(double now);
+  void acceptCapture(double now);
+  void discardCapture(const std::string& why);
+  void captureNote(double now, const std::string& message, bool error);
+  void checkCamera(double now);
 
   KioskConfig config_;
   Display* display_;
@@ -127,6 +154,22 @@ class KioskApp {
   bool lastTip_ = false, lastBarrel1_ = false, lastBarrel2_ = false;
   std::vector<ButtonSource*> buttons_;
   std::map<std::string, std::string> deviceNotes_;
+
+  CameraSource* camera_ = nullptr;
+  bool cameraLost_ = false;
+  double lastCameraCheck_ = 0;
+  struct Capture {
+    CapturePhase phase = CapturePhase::Idle;
+    std::future<Result<CaptureResult>> job;  // while Running
+    bool dropResult = false;                 // the visitor left while it ran
+    std::optional<CaptureResult> offer;      // while Offer
+    std::string message;
+    bool messageIsError = false;
+    double messageUntil = 0;
+    double started = 0;
+  } capture_;
+  bool overlayChanged_ = false;  // present even when the picture did not change
+  std::chrono::steady_clock::time_point lastSlowLog_{};
 
   bool quit_ = false;
   bool benchShown_ = false;  // the composer shows the bench (else the attract piece)

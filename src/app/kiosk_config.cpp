@@ -48,7 +48,8 @@ std::map<std::string, Action> defaultKeyMap() {
       {"minus", Action::SizeDown},   {"KP_Subtract", Action::SizeDown}, {"WheelDown", Action::SizeDown},
       {"m", Action::NextMetal},      {"z", Action::Undo},             {"BackSpace", Action::Undo},
       {"y", Action::Redo},           {"t", Action::Turn},             {"space", Action::Turn},
-      {"n", Action::NewSheet},       {"Return", Action::NewSheet},    {"F12", Action::Staff},
+      {"n", Action::NewSheet},       {"Return", Action::NewSheet},    {"c", Action::Capture},
+      {"F12", Action::Staff},
       {"Escape", Action::Quit},      {"q", Action::Quit},
   };
 }
@@ -88,6 +89,9 @@ KioskConfig parseKioskConfig(const std::string& text, const std::string& name, K
     } else if (key == "buttons") {
       if (v.empty()) warn("buttons must be auto, none or the path of a buttons.json");
       else c.buttons = v;
+    } else if (key == "camera") {
+      if (v == "auto" || v == "none" || (v.size() > 5 && v.rfind("file:", 0) == 0) || v.rfind("/dev/", 0) == 0) c.camera = v;
+      else warn("camera must be auto, none, /dev/videoN or file:PNG, not '" + v + "'");
     } else if (key == "tablet_aspect") {
       positive(key, v, c.tabletAspect);
     } else if (key == "pieces_dir") {

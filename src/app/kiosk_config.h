@@ -19,6 +19,7 @@ struct KioskConfig {
   int width = 1280, height = 800;  // the window or headless picture (kms takes the screen's mode)
   std::string tablet = "auto";   // auto | evemu:PATH | none
   std::string buttons = "auto";  // auto (GPIO with the built-in wiring) | none | PATH of a buttons.json
+  std::string camera = "auto";   // auto (the first V4L2 camera) | /dev/videoN | file:PNG | none: capture drawing
   double tabletAspect = 1.6;     // width / height of the tablet's active area (Intuos 6x9: 1.6)
   std::filesystem::path piecesDir;                                  // empty: searched (see docs/kiosk.md)
   std::filesystem::path sessionsDir;  // empty: $STATE_DIRECTORY/sessions, else ~/.local/state/emboss-kiosk/sessions

@@ -157,6 +157,42 @@ void benchOverlay(Overlay& o, const OverlayState& s, double u) {
   for (const auto& [x, y2] : b.openContour()) disc(o, x, y2, 2.2 * u, kAmber);
 }
 
+void captureOverlay(Overlay& o, const OverlayState& s, double u) {
+  const double W = s.width, H = s.height;
+  // The traced drawing on the plate: amber dots along its lines, as the region raiser's contour.
+  constexpr size_t kMaxDots = 6000;
+  const double step = std::max(1.5, 3.0 * u);
+  size_t dots = 0;
+  for (const auto& line : s.guide) {
+    for (size_t i = 0; i < line.size() && dots < kMaxDots; ++i) {
+      const auto [x1, y1] = line[i];
+      if (i == 0) {
+        disc(o, x1, y1, 1.6 * u, alpha(kAmber, 0.9f)), ++dots;
+        continue;
+      }
+      const auto [x0, y0] = line[i - 1];
+      const int n = std::max(1, static_cast<int>(std::hypot(x1 - x0, y1 - y0) / step));
+      for (int k = 1; k <= n && dots < kMaxDots; ++k, ++dots) disc(o, x0 + (x1 - x0) * k / n, y0 + (y1 - y0) * k / n, 1.6 * u, alpha(kAmber, 0.9f));
+    }
+  }
+  // A still being taken: a ring pulsing round a dot at the top, like a shutter.
+  if (s.capturing) {
+    const double cx = W / 2, cy = 46 * u;
+    const double ph = std::fmod(s.now, 1.0);
+    disc(o, cx, cy, 30 * u, kPanel);
+    disc(o, cx, cy, 9 * u, kInk);
+    o.rings.push_back({float(cx), float(cy), float((13 + 12 * ph) * u), float(3 * u), alpha(kAmber, float(1 - ph))});
+  }
+  std::string line = s.captureMessage;
+  if (line.empty() && s.capturing) line = "Taking a picture of your drawing...";
+  if (!line.empty()) {
+    const double size = 17 * u, y = H - 64 * u;
+    const double w = std::min(W - 40 * u, 0.66 * size * line.size() + 40 * u);
+    o.rects.push_back({float(W / 2 - w / 2), float(y - 14 * u), float(w), float(size + 28 * u), kPanel, float(14 * u)});
+    textCentred(o, W / 2, y, size, line, s.captureMessageIsError ? OverlayColor{1.0f, 0.55f, 0.45f, 1} : alpha(kInk, 0.95f));
+  }
+}
+
 void stillThereOverlay(Overlay& o, const OverlayState& s, double u) {
   const double W = s.width, H = s.height;
   o.rects.push_back({0, 0, float(W), float(H), {0, 0, 0, 0.5f}, 0});
@@ -226,9 +262,11 @@ Overlay buildOverlay(const OverlayState& s) {
     case KioskMode::Attract: attractOverlay(o, s, u); break;
     case KioskMode::Visitor:
       if (s.bench) benchOverlay(o, s, u);
+      captureOverlay(o, s, u);
       break;
     case KioskMode::StillThere:
       if (s.bench) benchOverlay(o, s, u);
+      captureOverlay(o, s, u);
       stillThereOverlay(o, s, u);
       break;
     case KioskMode::Staff: staffOverlay(o, s, u); break;

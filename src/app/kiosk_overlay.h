@@ -30,6 +30,13 @@ struct OverlayState {
   double progress = 0;               // attract: 0..1
   double countdownLeft = 0, countdownTotal = 1;
   StaffView staff;
+  // Capture drawing (visitor and still-there): a still being taken and traced, the traced lines on
+  // offer (screen pixels, projected onto the plate), the last outcome.
+  bool capturing = false;
+  bool captureOffered = false;
+  std::vector<std::vector<std::pair<double, double>>> guide;
+  std::string captureMessage;
+  bool captureMessageIsError = false;
 };
 
 // Nothing here must be read to start: the pictograms say tool, size and metal, the bar says

@@ -159,6 +159,7 @@ void Workbench::apply(Action action, double now) {
       break;
     case Action::NewSheet: newSheet(now); break;
     case Action::None:
+    case Action::Capture:
     case Action::Staff:
     case Action::Quit: break;
   }
@@ -255,6 +256,14 @@ void Workbench::commit(const std::vector<Operation>& ops) {
   redo_.clear();
   if (strokeOpen_) strokes_.back() += added;
   else strokes_.push_back(added), strokeOpen_ = true;
+}
+
+size_t Workbench::addStroke(const std::vector<Operation>& ops) {
+  endStroke();
+  const size_t before = model_->activeCount();
+  commit(ops);
+  strokeOpen_ = false;
+  return model_->activeCount() - before;
 }
 
 void Workbench::undoOps(size_t n) {

@@ -45,7 +45,7 @@ class Workbench {
   void resetForVisitor(double now);
   // The visitor's "new sheet": no operations, home view; tool, size and metal stay.
   void newSheet(double now);
-  // Carries out a button's action (NextTool ... NewSheet). Staff and Quit are not the bench's.
+  // Carries out a button's action (NextTool ... NewSheet). Capture, Staff and Quit are not the bench's.
   void apply(Action action, double now);
 
   // The pen at screen pixel (sx, sy). A touch on the metal starts or continues a stroke; the
@@ -55,6 +55,9 @@ class Workbench {
   void penAway();
   // Ends a stroke in progress (its operations join the model) with the pen left where it is.
   void finishStroke() { endStroke(); }
+  // Adds operations made elsewhere (a captured drawing's traced lines) as one stroke: one undo
+  // takes them all back. Returns how many the model took.
+  size_t addStroke(const std::vector<Operation>& ops);
   // Advances the turning animation.
   void update(double now);
 

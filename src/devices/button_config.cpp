@@ -24,7 +24,7 @@ constexpr std::array<std::pair<LineBias, const char*>, 4> kBiasNames = {{
 std::string knownActions() {
   std::string s;
   for (Action a : {Action::NextTool, Action::PrevTool, Action::SizeUp, Action::SizeDown, Action::NextMetal, Action::Undo,
-                   Action::Redo, Action::Turn, Action::NewSheet, Action::Staff}) {
+                   Action::Redo, Action::Turn, Action::NewSheet, Action::Capture, Action::Staff}) {
     s += (s.empty() ? "" : ", ") + std::string(actionName(a));
   }
   return s;

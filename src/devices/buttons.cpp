@@ -7,11 +7,12 @@
 namespace emboss {
 
 namespace {
-constexpr std::array<std::pair<Action, const char*>, 12> kNames = {{
+constexpr std::array<std::pair<Action, const char*>, 13> kNames = {{
     {Action::None, "none"},         {Action::NextTool, "next_tool"}, {Action::PrevTool, "prev_tool"},
     {Action::SizeUp, "size_up"},    {Action::SizeDown, "size_down"}, {Action::NextMetal, "next_metal"},
     {Action::Undo, "undo"},         {Action::Redo, "redo"},          {Action::Turn, "turn"},
-    {Action::NewSheet, "new_sheet"}, {Action::Staff, "staff"},       {Action::Quit, "quit"},
+    {Action::NewSheet, "new_sheet"}, {Action::Capture, "capture"},   {Action::Staff, "staff"},
+    {Action::Quit, "quit"},
 }};
 }  // namespace
 

@@ -18,6 +18,7 @@ enum class Action {
   Redo,
   Turn,      // turn the workpiece (the paper's rotation); pressed again: back
   NewSheet,
+  Capture,   // photograph a drawing on paper: its lines become a guide on the plate (docs/kiosk.md)
   Staff,     // a chord or long press of configured buttons enters staff mode
   Quit,      // development only (keyboard)
 };

@@ -14,6 +14,10 @@ class CameraSource {
   virtual std::string name() const = 0;
   // One still, RGBA. Fails with a message when the camera is gone or times out.
   virtual Result<Image> capture() = 0;
+  // Whether the camera is still there: cheap, never blocks, and false once it is known to be gone
+  // (unplugged, or lost by a failed capture). The kiosk drops a camera that is not and looks for
+  // one again. Not to be called while capture() runs on another thread.
+  virtual bool present() { return true; }
 };
 
 }  // namespace emboss

@@ -2,8 +2,11 @@
 // staff export, and the fallbacks when files or disks misbehave.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <fstream>
+#include <thread>
 
 #include "app/attract_library.h"
 #include "app/kiosk_app.h"
@@ -291,6 +294,157 @@ TEST(KioskApp, StaffExportsSessionsAndSaysWhyWhenItCannot) {
   EXPECT_EQ(app.mode(), KioskMode::Attract);
 }
 
+// A camera whose still is a drawing on a sheet of paper (a circle, landscape A-format) lying on a
+// dark table; or one that fails, as an unplugged camera does.
+class FakeCamera final : public CameraSource {
+ public:
+  std::string name() const override { return "fake camera"; }
+  Result<Image> capture() override {
+    ++captures;
+    if (broken) return fail("camera: fake is gone (unplugged?)");
+    Image img(640, 480);
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const bool paper = x >= 90 && x < 550 && y >= 78 && y < 404;  // 460 x 326: about sqrt 2
+        const double r = std::hypot(x - 320.0, y - 241.0);
+        const bool ink = paper && drawing && std::fabs(r - 95) < 2.5;
+        const std::uint8_t v = ink ? 35 : paper ? 228 : 70;
+        std::uint8_t* p = img.pixel(x, y);
+        p[0] = v, p[1] = v, p[2] = paper ? v : 50, p[3] = 255;
+      }
+    return img;
+  }
+  bool present() override { return !broken; }
+  bool broken = false;
+  bool drawing = true;
+  int captures = 0;
+};
+
+// Steps (the fake clock still) until the capture thread has answered.
+void waitForCapture(KioskApp& app, double& t) {
+  for (int i = 0; i < 3000 && app.capturePhase() == KioskApp::CapturePhase::Running; ++i) {
+    app.step();
+    t += 0.001;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+TEST(KioskApp, CapturedDrawingIsOfferedThenEmbossedAsOneStrokeOrPutAway) {
+  const fs::path dir = test::scratchDir("kiosk-app-capture");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  std::vector<std::string> log;
+  KioskApp app(testConfig(dir), tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; });
+  FakeButtons buttons;
+  app.addButtons(&buttons);
+
+  // No camera: the press wakes the kiosk and says so, nothing else.
+  buttons.tap(Action::Capture, t);
+  app.step();
+  EXPECT_EQ(app.mode(), KioskMode::Visitor);
+  EXPECT_EQ(app.capturePhase(), KioskApp::CapturePhase::Idle);
+  EXPECT_EQ(app.captureMessage(), "No camera");
+
+  FakeCamera camera;
+  app.setCamera(&camera);
+  buttons.tap(Action::Capture, t);
+  app.step();
+  EXPECT_EQ(app.capturePhase(), KioskApp::CapturePhase::Running);
+  waitForCapture(app, t);
+  ASSERT_EQ(app.capturePhase(), KioskApp::CapturePhase::Offer) << app.captureMessage();
+  ASSERT_NE(app.captureOffer(), nullptr);
+  const size_t offered = app.captureOffer()->operations.size();
+  ASSERT_GT(offered, 0u);
+  // The circle (95 px of the sheet's 326 px height) round the plate's centre; the sheet's height
+  // maps onto the plate's 80 mm less 5 mm margins: a radius of 20.4 mm.
+  for (const auto& line : app.captureOffer()->polylines)
+    for (const Vec2& p : line) EXPECT_NEAR(std::hypot(p.x, p.y), 95.0 * 70.0 / 326.0, 1.5);
+  EXPECT_EQ(app.bench().model().activeCount(), 0u);  // only offered so far
+  // Capture again: embossed, as one stroke.
+  buttons.tap(Action::Capture, t);
+  app.step();
+  EXPECT_EQ(app.capturePhase(), KioskApp::CapturePhase::Idle);
+  EXPECT_EQ(app.bench().model().activeCount(), offered);
+  EXPECT_EQ(app.bench().strokes(), 1u);
+  buttons.tap(Action::Undo, t);
+  app.step();
+  EXPECT_EQ(app.bench().model().activeCount(), 0u);
+
+  // Offered again, and put away with undo: nothing embossed, the strokes untouched.
+  buttons.tap(Action::Capture, t);
+  app.step();
+  waitForCapture(app, t);
+  ASSERT_EQ(app.capturePhase(), KioskApp::CapturePhase::Offer);
+  const Image withGuide = display.screenshot();
+  buttons.tap(Action::Undo, t);
+  app.step();
+  EXPECT_EQ(app.capturePhase(), KioskApp::CapturePhase::Idle);
+  {
+    // The guide was drawn over the plate where the circle's top lies, and is gone now.
+    const Camera cam(app.bench().camera(), kW, kH);
+    const auto top = cam.project({0.0, 95.0 * 70.0 / 326.0, 0.5});
+    ASSERT_TRUE(top);
+    const Image without = display.screenshot();
+    int differ = 0;
+    for (int dy = -3; dy <= 3; ++dy)
+      for (int dx = -3; dx <= 3; ++dx) {
+        const int x = std::clamp(int(top->x) + dx, 0, kW - 1), y = std::clamp(int(top->y) + dy, 0, kH - 1);
+        differ += std::memcmp(withGuide.pixel(x, y), without.pixel(x, y), 3) != 0;
+      }
+    EXPECT_GT(differ, 3) << "no guide drawn near (" << top->x << ", " << top->y << ")";
+  }
+  EXPECT_EQ(app.captureOffer(), nullptr);
+  EXPECT_EQ(app.bench().model().activeCount(), 0u);
+  EXPECT_EQ(app.bench().strokes(), 0u);
+
+  // A blank sheet: a message, nothing offered.
+  camera.drawing = false;
+  buttons.tap(Action::Capture, t);
+  app.step();
+  waitForCapture(app, t);
+  EXPECT_EQ(app.capturePhase(), KioskApp::CapturePhase::Idle);
+  EXPECT_NE(app.captureMessage().find("No drawing"), std::string::npos) << app.captureMessage();
+
+  // The camera unplugged: the capture fails, the camera is reported lost and no longer used.
+  camera.broken = true;
+  buttons.tap(Action::Capture, t);
+  app.step();
+  waitForCapture(app, t);
+  EXPECT_EQ(app.capturePhase(), KioskApp::CapturePhase::Idle);
+  EXPECT_TRUE(app.cameraLost());
+  const int before = camera.captures;
+  buttons.tap(Action::Capture, t);
+  app.step();
+  EXPECT_EQ(camera.captures, before);
+  EXPECT_EQ(app.captureMessage(), "No camera");
+}
+
+TEST(KioskApp, AnIdleCameraThatGoesAwayIsDroppedAndTheStaffMenuCaptures) {
+  const fs::path dir = test::scratchDir("kiosk-app-camera-lost");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  KioskStart start;
+  start.staff = true;
+  KioskApp app(testConfig(dir), tinyPieces(), display, {}, [&] { return t; }, start);
+  FakeCamera camera;
+  app.setCamera(&camera);
+  // From staff mode (entered from attract): the bench, a visitor's sheet, and the still.
+  app.staffActivate(3);
+  EXPECT_EQ(app.mode(), KioskMode::Visitor);
+  EXPECT_EQ(app.capturePhase(), KioskApp::CapturePhase::Running);
+  waitForCapture(app, t);
+  EXPECT_EQ(app.capturePhase(), KioskApp::CapturePhase::Offer);
+  // Unplugged while idle: noticed by the check every 2 s.
+  camera.broken = true;
+  app.step();
+  EXPECT_FALSE(app.cameraLost());
+  t += 2.5;
+  app.step();
+  EXPECT_TRUE(app.cameraLost());
+  app.setCamera(nullptr);
+  EXPECT_FALSE(app.cameraLost());
+}
+
 TEST(SessionStore, FullDiskForExportIsAClearMessageAndNothingIsCopied) {
   const fs::path dir = test::scratchDir("session-store-full");
   SessionStore store(dir / "sessions", {});
@@ -346,6 +500,32 @@ TEST(AttractLibrary, ABrokenPieceIsSkippedWithAMessage) {
   EXPECT_FALSE(builtinAttractPieces().empty());
 }
 
+TEST(KioskApp, AttractModeGoesOnWhereItWasAfterAStall) {
+  const fs::path dir = test::scratchDir("kiosk-app-stall");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  KioskApp app(testConfig(dir), tinyPieces(), display, {}, [&] { return t; });
+  app.step();
+  ASSERT_EQ(app.mode(), KioskMode::Attract);
+  const size_t before = app.attract().model().activeCount();
+  // The loop stalls for a minute (longer than the whole piece): nothing is caught up at once.
+  t += 60;
+  app.step();
+  EXPECT_EQ(app.attract().model().activeCount(), before);
+  EXPECT_EQ(app.attract().pieceIndex(), 0u);
+  // Steps at a normal pace: the piece goes on, one operation after the other.
+  size_t seen = before, jumps = 0;
+  for (int i = 0; i < 1000 && app.attract().model().activeCount() < 3; ++i) {
+    t += 0.1;
+    app.step();
+    const size_t n = app.attract().model().activeCount();
+    jumps += n > seen + 1;
+    seen = n;
+  }
+  EXPECT_GE(app.attract().model().activeCount(), 3u);
+  EXPECT_EQ(jumps, 0u);
+}
+
 TEST(AttractPlayer, PlaysPiecesOperationByOperationThenTurnsAndLoops) {
   auto pieces = tinyPieces();
   pieces.push_back(pieces[0]);
@@ -392,6 +572,16 @@ TEST(KioskConfig, BadLinesAreWarningsAndKeepTheDefaults) {
   loadKioskConfig("/nonexistent/kiosk.conf", {}, w2);
   ASSERT_EQ(w2.size(), 1u);
   EXPECT_NE(w2[0].find("using the defaults"), std::string::npos);
+  // The camera: auto by default, a node or a picture, anything else a warning.
+  EXPECT_EQ(c.camera, "auto");
+  std::vector<std::string> w3;
+  EXPECT_EQ(parseKioskConfig("camera = file:/tmp/drawing.png\n", "k", {}, w3).camera, "file:/tmp/drawing.png");
+  EXPECT_EQ(parseKioskConfig("camera = /dev/video2\n", "k", {}, w3).camera, "/dev/video2");
+  EXPECT_TRUE(w3.empty());
+  EXPECT_EQ(parseKioskConfig("camera = webcam\n", "k", {}, w3).camera, "auto");
+  ASSERT_EQ(w3.size(), 1u);
+  EXPECT_NE(w3[0].find("camera must be"), std::string::npos) << w3[0];
+  EXPECT_EQ(defaultKeyMap().at("c"), Action::Capture);
 }
 
 TEST(PointerInput, MouseIsAPenWithASteadyPressAndKeysAreButtons) {
