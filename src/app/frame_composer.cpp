@@ -49,7 +49,10 @@ std::vector<Rect> mergeRects(std::vector<Rect> rects) {
 }
 
 FrameComposer::FrameComposer(ThreadPool& pool, int width, int height)
-    : pool_(pool), renderer_(pool), w_(width), h_(height), frame_(width, height) {
+    : pool_(pool), w_(width), h_(height), frame_(width, height) {
+  for (Slot& s : slots_) s.renderer = std::make_unique<Renderer>(pool_);
+  slot_ = &slots_[0];
+  renderer_ = slot_->renderer.get();
   for (size_t i = 3; i < frame_.rgba.size(); i += 4) frame_.rgba[i] = 255;
   nextBand_ = h_;
 }
@@ -58,27 +61,50 @@ FrameComposer::BlankKey FrameComposer::blankKey() const {
   return {model_ ? &model_->workpiece() : nullptr, cameraKey(camera_), shadingKey_};
 }
 
+FrameComposer::Slot& FrameComposer::slotFor(const Model& model) {
+  Slot* best = &slots_[0];
+  for (Slot& s : slots_) {
+    if (s.model == &model) return s;
+    if (s.lastUse < best->lastUse) best = &s;
+  }
+  return *best;  // the one used longest ago follows the new model (from scratch)
+}
+
 void FrameComposer::show(const Model& model, const CameraSpec& camera, const ShadingParams& shading,
                          const ViewChanges& changes, bool moving) {
   bool full = changes.full || &model != model_;
+  if (&model != model_) {
+    slot_ = &slotFor(model);
+    renderer_ = slot_->renderer.get();
+    if (slot_->model != &model) slot_->model = nullptr;  // synced below
+  }
+  slot_->lastUse = ++uses_;
   const std::string sk = std::string(shading.metal.name) + "/" + std::string(shading.tinge.name) + "/" +
                          std::to_string(shading.frontZ);
   if (sk != shadingKey_) {
     shadingKey_ = sk;
     shading_ = shading;
-    renderer_.setShading(shading);
     full = true;
   }
-  if (!cameraSet_ || changes.camera || cameraKey(camera) != cameraKey(camera_)) {
-    if (!cameraSet_ || cameraKey(camera) != cameraKey(camera_)) full = true;
+  if (slot_->shadingKey != sk) {
+    slot_->shadingKey = sk;
+    renderer_->setShading(shading);
+  }
+  const std::string ck = cameraKey(camera);
+  if (!cameraSet_ || changes.camera || ck != cameraKey(camera_)) {
+    if (!cameraSet_ || ck != cameraKey(camera_)) full = true;
     camera_ = camera;
     cameraSet_ = true;
-    renderer_.setCamera(Camera(camera_, w_, h_));
   }
-  if (&model != model_ || model.revision() != revision_) {
+  if (slot_->cameraKey != ck) {
+    slot_->cameraKey = ck;
+    renderer_->setCamera(Camera(camera_, w_, h_));
+  }
+  if (&model != model_ || slot_->model != &model || model.revision() != revision_) {
     model_ = &model;
+    slot_->model = &model;
     revision_ = model.revision();
-    renderer_.sync(model);
+    renderer_->sync(model);
   }
   if (full) {
     urgent_.clear();
@@ -101,7 +127,7 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
     nextBand_ = 0;
   }
   for (size_t i : changes.ops) {
-    const Rect r = renderer_.dirtyRect(model, i);
+    const Rect r = renderer_->dirtyRect(model, i);
     if (!r.empty()) urgent_.push_back(r);
   }
 }
@@ -109,7 +135,7 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
 void FrameComposer::renderRect(const Rect& r, std::vector<Rect>& changed) {
   RenderStats st;
   const auto t0 = std::chrono::steady_clock::now();
-  renderer_.render(frame_, r, &st);
+  renderer_->render(frame_, r, &st);
   const double ms = msSince(t0);
   counters_.render += st;
   if (ms > 0.5 && r.area() > 0) {
@@ -123,10 +149,10 @@ void FrameComposer::preview(std::vector<Rect>& changed) {
   needPreview_ = false;
   const int pw = std::max(8, w_ / previewScale_), ph = std::max(8, h_ / previewScale_);
   const auto t0 = std::chrono::steady_clock::now();
-  renderer_.setCamera(Camera(camera_, pw, ph));
+  renderer_->setCamera(Camera(camera_, pw, ph));
   RenderStats st;
-  renderer_.renderFull(low_, &st);
-  renderer_.setCamera(Camera(camera_, w_, h_));
+  renderer_->renderFull(low_, &st);
+  renderer_->setCamera(Camera(camera_, w_, h_));
   counters_.render += st;
   // Bilinear enlargement into the frame.
   for (int y = 0; y < h_; ++y) {

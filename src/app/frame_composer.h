@@ -2,7 +2,9 @@
 // preview refined band by band, so the kiosk answers the pen while a big redraw is under way.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <map>
 #include <optional>
 #include <string>
@@ -27,6 +29,8 @@ class FrameComposer {
   // What to show now. `changes` are the view's changes since the last call. A different model,
   // a full change, another shading or a moved camera start a preview and a refinement; changed
   // operations add their dirty rectangles. With `moving`, a camera in motion: only previews.
+  // The two models shown last keep their renderer (index and height field): switching between
+  // them does not rebuild either.
   void show(const Model& model, const CameraSpec& camera, const ShadingParams& shading, const ViewChanges& changes,
             bool moving);
 
@@ -56,8 +60,21 @@ class FrameComposer {
   void renderRect(const Rect& r, std::vector<Rect>& changed);
   BlankKey blankKey() const;
 
+  // One renderer per model shown recently (the attract piece and the bench): each keeps its model's
+  // index and height field, so going from one to the other and back costs no rebuild.
+  struct Slot {
+    std::unique_ptr<Renderer> renderer;
+    const Model* model = nullptr;
+    std::string shadingKey, cameraKey;
+    std::uint64_t lastUse = 0;
+  };
+  Slot& slotFor(const Model& model);
+
   ThreadPool& pool_;
-  Renderer renderer_;
+  std::array<Slot, 2> slots_;
+  std::uint64_t uses_ = 0;
+  Slot* slot_ = nullptr;      // the one showing model_
+  Renderer* renderer_ = nullptr;
   int w_, h_;
   Image frame_, low_;
   const Model* model_ = nullptr;

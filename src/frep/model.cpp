@@ -1,6 +1,8 @@
 // The model's edits and its evaluation under the two deformation models.
 #include "frep/model.h"
 
+#include <atomic>
+
 #include <cmath>
 
 #include "frep/kernels.h"
@@ -24,6 +26,13 @@ struct AllIndices {
 
 }  // namespace
 
+namespace {
+// Operation ids come from one counter for the whole process, so an id names one operation of one
+// model: a cache that followed another model (or a model since destroyed) can never mistake an
+// operation for one it has seen.
+std::atomic<std::uint64_t> gNextOperationId{1};
+}  // namespace
+
 Model::Model(std::shared_ptr<const Workpiece> workpiece, Deformation deformation)
     : workpiece_(std::move(workpiece)), deformation_(deformation) {}
 
@@ -33,7 +42,7 @@ Status Model::add(Operation op) {
   ops_.erase(ops_.begin() + static_cast<std::ptrdiff_t>(cursor_), ops_.end());
   ops_.emplace_back(std::move(op));
   ids_.resize(cursor_);
-  ids_.push_back(nextId_++);
+  ids_.push_back(gNextOperationId.fetch_add(1, std::memory_order_relaxed));
   cursor_ = ops_.size();
   ++revision_;
   return Ok{};

@@ -38,8 +38,8 @@ class Model {
   const std::vector<PreparedOp>& operations() const { return ops_; }
   // Increases at every edit; lets caches notice a change.
   std::uint64_t revision() const { return revision_; }
-  // A number unique to each operation ever added to this model (never reused), parallel to
-  // operations(): an index whose id changed holds a different operation than before.
+  // A number unique to each operation ever added to any model in this process (never reused),
+  // parallel to operations(): an index whose id changed holds a different operation than before.
   const std::vector<std::uint64_t>& operationIds() const { return ids_; }
 
   // f at p with every active operation (the naive, exact evaluation).
@@ -72,7 +72,6 @@ class Model {
   std::vector<std::uint64_t> ids_;
   size_t cursor_ = 0;
   std::uint64_t revision_ = 0;
-  std::uint64_t nextId_ = 1;
 };
 
 extern template double Model::evaluate(const P3<double>&) const;

@@ -19,7 +19,7 @@ void OpGrid::build(const Model& model) {
   cells_.assign(static_cast<size_t>(nx_) * ny_, {});
   ids_.clear();
   supports_.clear();
-  workpiece_ = &model.workpiece();
+  workpiece_ = model.workpiecePtr();
 }
 
 bool OpGrid::cellRange(const Box2& b, int& cx0, int& cy0, int& cx1, int& cy1) const {
@@ -57,7 +57,7 @@ void OpGrid::remove(std::uint32_t index, const Box2& support) {
 }
 
 size_t OpGrid::sync(const Model& model) {
-  if (workpiece_ != &model.workpiece() || model_ != &model || cells_.empty()) build(model);
+  if (workpiece_.get() != &model.workpiece() || model_ != &model || cells_.empty()) build(model);
   model_ = &model;
   const auto& ops = model.operations();
   const auto& ids = model.operationIds();

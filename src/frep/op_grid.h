@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -47,8 +48,8 @@ class OpGrid {
   std::vector<std::uint64_t> ids_;     // ids of the operations indexed, by index
   std::vector<Box2> supports_;         // their supports, to remove them again
   size_t activeCount_ = 0;
-  const Workpiece* workpiece_ = nullptr;
-  const Model* model_ = nullptr;  // ids are unique within one model only
+  std::shared_ptr<const Workpiece> workpiece_;  // held: its address is never another workpiece's
+  const Model* model_ = nullptr;
 };
 
 }  // namespace emboss

@@ -156,7 +156,7 @@ struct Renderer::RayContext {
 // ---------------------------------------------------------------- sync
 
 void Renderer::sync(const Model& model) {
-  // Operation ids are unique within one model: another model is followed from scratch.
+  // Another model is followed from scratch (its operation ids are its own).
   if (model_ != &model) fieldReady_ = false;
   model_ = &model;
   grid_.sync(model);
@@ -186,8 +186,8 @@ void Renderer::rebuildField(const Model& model) {
   const double area = (domain.x1 - domain.x0) * (domain.y1 - domain.y0);
   const double spacing = std::max(kFieldSpacing, std::sqrt(area / kMaxFieldSamples));
   field_.configure(domain, spacing);
-  fieldWorkpiece_ = &model.workpiece();
-  const Workpiece* w = fieldWorkpiece_;
+  fieldWorkpiece_ = model.workpiecePtr();
+  const Workpiece* w = fieldWorkpiece_.get();
   workpieceKind_ = dynamic_cast<const Plate*>(w) ? 1 : dynamic_cast<const Disc*>(w) ? 2 : dynamic_cast<const Bowl*>(w) ? 3 : 0;
   const auto* vm = dynamic_cast<const VmWorkpiece*>(w);
   if (vm && vm->isPlate()) workpieceKind_ = 4;
@@ -294,7 +294,7 @@ void Renderer::recomputeField(const Model& model, const HeightField::SampleRect&
 }
 
 void Renderer::syncField(const Model& model) {
-  if (!fieldReady_ || fieldWorkpiece_ != &model.workpiece()) {
+  if (!fieldReady_ || fieldWorkpiece_.get() != &model.workpiece()) {
     rebuildField(model);
     return;
   }

@@ -147,7 +147,7 @@ class Renderer {
   // The field tracer's state.
   HeightField field_;
   bool fieldReady_ = false;
-  const Workpiece* fieldWorkpiece_ = nullptr;
+  std::shared_ptr<const Workpiece> fieldWorkpiece_;  // held: its address is never another workpiece's
   std::vector<std::uint64_t> fieldIds_;  // ids of the operations summed into the field, by index
   std::vector<Box2> fieldSupports_;      // their supports
   int workpieceKind_ = 0;  // 1 plate, 2 disc, 3 bowl (known Lipschitz bounds), 4 outline sheet (2D vm), 0 other
