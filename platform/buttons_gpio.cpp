@@ -1,5 +1,6 @@
 // The GPIO buttons through libgpiod 1.6: one edge-event request per line, gathered behind one epoll fd.
 #include "buttons_gpio.h"
+#include "platform_util.h"
 
 #include <gpiod.h>
 #include <poll.h>
@@ -19,19 +20,6 @@
 namespace emboss {
 
 namespace {
-
-void logOnce(const std::string& message) {
-  static std::mutex mutex;
-  static std::set<std::string> logged;
-  std::lock_guard<std::mutex> lock(mutex);
-  if (logged.insert(message).second) std::fprintf(stderr, "emboss: %s\n", message.c_str());
-}
-
-double nowSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + ts.tv_nsec * 1e-9;
-}
 
 bool allDigits(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
@@ -102,7 +90,7 @@ Result<std::unique_ptr<ButtonSource>> openGpioButtons(const ButtonConfig& config
   if (!self->epoll_.valid()) return fail(std::string("gpio: epoll_create1 failed: ") + std::strerror(errno));
 
   std::map<std::string, gpiod_chip*> byName;
-  const double now = nowSeconds();
+  const double now = monotonicSeconds();
   std::set<std::string> chipNames;
   for (size_t i = 0; i < config.buttons.size(); ++i) {
     const ButtonLineConfig& b = config.buttons[i];
@@ -179,7 +167,7 @@ bool GpioButtons::poll(std::vector<ButtonEvent>& out) {
     bool pressed;
   };
   std::vector<Edge> edges;
-  const double now = nowSeconds();
+  const double now = monotonicSeconds();
   // The line descriptors themselves, not the epoll: when the chip goes away (a USB GPIO adapter
   // unplugged) Linux 6.1 marks them POLLHUP|POLLERR without waking an epoll that watches them.
   std::vector<pollfd> fds(lines_.size());
@@ -232,7 +220,7 @@ bool GpioButtons::poll(std::vector<ButtonEvent>& out) {
       gestures_.edge(i, levels_[i], now, out);
     }
   }
-  gestures_.advance(nowSeconds(), out);
+  gestures_.advance(monotonicSeconds(), out);
   return true;
 }
 

@@ -12,17 +12,11 @@
 #include "pen_evdev.h"
 #include "pen_hidraw.h"
 #include "usb_uclogic.h"
+#include "platform_util.h"
 
 namespace emboss {
 
 namespace {
-
-void logOnce(const std::string& message) {
-  static std::mutex mutex;
-  static std::set<std::string> logged;
-  std::lock_guard<std::mutex> lock(mutex);
-  if (logged.insert(message).second) std::fprintf(stderr, "emboss: %s\n", message.c_str());
-}
 
 std::string rangeText(const EvdevCaps& caps) {
   std::string s;

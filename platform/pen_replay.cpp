@@ -10,12 +10,6 @@
 
 namespace emboss {
 
-double monotonicSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-}
-
 ReplayPen::ReplayPen(std::vector<PenSample> samples, std::string name, bool fast, Clock now)
     : samples_(std::move(samples)), name_(std::move(name)), fast_(fast), now_(now ? std::move(now) : Clock(monotonicSeconds)) {
   std::stable_sort(samples_.begin(), samples_.end(), [](const PenSample& a, const PenSample& b) { return a.time_s < b.time_s; });

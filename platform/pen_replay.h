@@ -9,12 +9,10 @@
 #include <vector>
 
 #include "devices/pen.h"
+#include "platform_util.h"
 #include "util/result.h"
 
 namespace emboss {
-
-// Seconds on CLOCK_MONOTONIC.
-double monotonicSeconds();
 
 class ReplayPen final : public PenSource {
  public:

@@ -1,12 +1,13 @@
 // HIL: a pen tablet as a uinput device replaying each evemu recording; the evdev back end
 // (EvdevPen::open, probeTablets, openFirstTablet) must read the same strokes as the offline decoder.
 //
-//   hil_evdev_uinput [EVEMU_DIR]     (default /work/shared/fixtures/evemu)
+//   hil_evdev_uinput [EVEMU_DIR]     (the fixtures' evemu/ folder)
 //
 // The uinput device gets the recording's name, IDs, keys, axes (fuzz 0: a recording holds values the
 // kernel already filtered once) and properties. Events are written one frame (up to SYN_REPORT) at a
 // time and the back end polled after each, as a live tablet would deliver them. The kernel drops
 // repeated values and empty frames, so both sample streams are compared with repeats removed.
+#include <cstdio>
 #include <linux/input.h>
 
 #include <algorithm>
@@ -145,7 +146,11 @@ void testReplug(const fs::path& events) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const fs::path dir = argc > 1 ? argv[1] : "/work/shared/fixtures/evemu";
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s FIXTURES/evemu (the folder of the fixtures' evemu files)\n", argv[0]);
+    return 2;
+  }
+  const fs::path dir = argv[1];
   std::vector<fs::path> files;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec))

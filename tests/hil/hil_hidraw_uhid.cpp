@@ -3,7 +3,7 @@
 // strokes fed to it, and destroying and recreating the device must be noticed and recovered within
 // two seconds.
 //
-//   hil_hidraw_uhid [HID_FIXTURE_DIR]     (default /work/shared/fixtures/hid)
+//   hil_hidraw_uhid [HID_FIXTURE_DIR]     (the fixtures' hid/ folder)
 //
 // Each non-empty descriptor for which makePenDecoder finds a pen becomes a uhid device with the bus,
 // vendor and product of its file name ("0003:256C:006D.0005.hid.bin"). Reports: a synthetic stroke
@@ -11,6 +11,7 @@
 // layout; for the Wacom PenPartner (a fixed-packet model without a pen in its descriptor) the real
 // hid-recorder capture beside it. Without the evdev module loaded (as hil-tests.sh runs it) there is
 // no evdev node, so openFirstTablet must take the hidraw path too.
+#include <cstdio>
 #include <algorithm>
 #include <map>
 
@@ -256,7 +257,11 @@ void testFixture(const Fixture& fx) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const fs::path dir = argc > 1 ? argv[1] : "/work/shared/fixtures/hid";
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s FIXTURES/hid (the folder of the fixtures' hid files)\n", argv[0]);
+    return 2;
+  }
+  const fs::path dir = argv[1];
   std::vector<Fixture> fixtures;
   std::error_code ec;
   for (const auto& folder : fs::directory_iterator(dir, ec)) {

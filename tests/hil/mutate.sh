@@ -14,7 +14,7 @@ HIL_DIR="$src/tests/hil"
 . "$HIL_DIR/vm-lib.sh"
 
 fixtures=${EMBOSS_FIXTURES:-$src/../shared/fixtures}
-[ -d "$fixtures" ] || fixtures=/work/shared/fixtures
+[ -d "$fixtures" ] || { echo "mutate.sh: no fixtures folder at $fixtures (set EMBOSS_FIXTURES)"; exit 77; }
 fixtures=$(cd "$fixtures" && pwd)
 
 # name | source file | text | replacement | test program | what the bug is
