@@ -105,6 +105,7 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
     slot_->model = &model;
     revision_ = model.revision();
     renderer_->sync(model);
+    counters_.fieldRebuilds += renderer_->lastSync().rebuilt;
   }
   if (full) {
     urgent_.clear();

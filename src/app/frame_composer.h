@@ -49,6 +49,7 @@ class FrameComposer {
   // Counters for the diagnostics screen.
   struct Counters {
     std::uint64_t dirtyRects = 0, dirtyPixels = 0, previews = 0, bands = 0, blankReuses = 0;
+    std::uint64_t fieldRebuilds = 0;  // a model's height field built from scratch
     double lastPreviewMs = 0;
     RenderStats render;
   };

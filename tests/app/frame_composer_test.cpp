@@ -82,6 +82,53 @@ TEST(FrameComposer, FinishedFrameEqualsAFullRender) {
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, bare2, home, sh).rgba);
 }
 
+TEST(FrameComposer, GoingBackAndForthBetweenTwoModelsRebuildsNoField) {
+  ThreadPool pool(2);
+  FrameComposer fc(pool, kW, kH);
+  auto plate = std::make_shared<Plate>(60.0, 40.0, 0.5);
+  Model piece(plate, Deformation::Sheet), bench(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  for (int i = 0; i < 4; ++i) ASSERT_TRUE(piece.add(punch(-15 + 10 * i, -5)));
+  const CameraSpec home = benchCamera(plate->bounds(), kW, kH);
+  ShadingParams sh;
+  sh.metal = *metalByName("brass");
+  sh.tinge = tinges()[0];
+  sh.frontZ = 0.5;
+  std::vector<Rect> all;
+  fc.show(piece, home, sh, {true, false, {}}, false);
+  fc.flush(all);
+  fc.show(bench, home, sh, {true, false, {}}, false);
+  fc.flush(all);
+  EXPECT_EQ(fc.counters().fieldRebuilds, 2u);
+  // Each changes while the other is shown; switching back follows the change, no rebuild.
+  for (int round = 0; round < 3; ++round) {
+    ASSERT_TRUE(piece.add(punch(-10 + 5 * round, 8)));
+    fc.show(piece, home, sh, {true, false, {}}, false);
+    fc.flush(all);
+    EXPECT_EQ(fc.frame().rgba, fullRender(pool, piece, home, sh).rgba) << "round " << round;
+    ASSERT_TRUE(bench.add(punch(10 - 5 * round, -8)));
+    fc.show(bench, home, sh, {true, false, {}}, false);
+    fc.flush(all);
+    EXPECT_EQ(fc.frame().rgba, fullRender(pool, bench, home, sh).rgba) << "round " << round;
+  }
+  EXPECT_EQ(fc.counters().fieldRebuilds, 2u);
+  // A third model takes the renderer used longest ago; a model made where a destroyed one was
+  // (same address, same workpiece) is not mistaken for it.
+  auto next = std::make_unique<Model>(plate, Deformation::Sheet);
+  ASSERT_TRUE(next->add(punch(0, 0)));
+  fc.show(*next, home, sh, {true, false, {}}, false);
+  fc.flush(all);
+  EXPECT_EQ(fc.counters().fieldRebuilds, 3u);
+  next.reset();
+  fc.show(bench, home, sh, {true, false, {}}, false);
+  fc.flush(all);
+  next = std::make_unique<Model>(plate, Deformation::Sheet);
+  ASSERT_TRUE(next->add(punch(12, 3)));
+  ASSERT_TRUE(next->add(punch(-12, 3)));
+  fc.show(*next, home, sh, {true, false, {}}, false);
+  fc.flush(all);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, *next, home, sh).rgba);
+}
+
 TEST(FrameComposer, MergesOverlappingRectangles) {
   const auto r = mergeRects({{0, 0, 10, 10}, {5, 0, 10, 10}, {100, 100, 5, 5}, {0, 0, 0, 0}});
   ASSERT_EQ(r.size(), 2u);
