@@ -15,6 +15,7 @@ bool same(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
     if (a[i].x != b[i].x || a[i].y != b[i].y) return false;
   return true;
 }
+bool same(const TraceJoin& a, const TraceJoin& b) { return a.r == b.r && a.dir.x == b.dir.x && a.dir.y == b.dir.y; }
 bool same(const ToolShape& a, const ToolShape& b) {
   return a.type == b.type && same(a.center, b.center) && same(a.end, b.end) && a.r == b.r && same(a.half, b.half);
 }
@@ -24,7 +25,8 @@ bool same(const ToolShape& a, const ToolShape& b) {
 bool sameOperation(const Operation& a, const Operation& b) {
   if (a.kind != b.kind) return false;
   switch (a.kind) {
-    case OpKind::Trace: return a.side == b.side && a.a == b.a && same(a.points, b.points);
+    case OpKind::Trace:
+      return a.side == b.side && a.a == b.a && same(a.points, b.points) && same(a.joinStart, b.joinStart) && same(a.joinEnd, b.joinEnd);
     case OpKind::Punch: return a.side == b.side && a.a == b.a && a.p == b.p && a.q == b.q && same(a.at, b.at);
     case OpKind::Press: return a.side == b.side && a.a == b.a && a.p == b.p && a.q == b.q && same(a.points, b.points);
     case OpKind::Region:

@@ -46,6 +46,7 @@ Result<std::vector<Operation>> traceOperations(const std::vector<std::vector<Vec
   std::vector<Operation> ops;
   for (const auto& line : polylines) {
     if (line.size() < 2) continue;
+    const size_t first = ops.size();
     std::vector<Vec2> piece{line[0]};
     double len = 0;
     Vec2 last = line[0];
@@ -67,6 +68,7 @@ Result<std::vector<Operation>> traceOperations(const std::vector<std::vector<Vec
       last = q;
     }
     if (piece.size() >= 2) ops.push_back(traceOp(*tool, *metal, piece, options.pressure));
+    joinTracePieces(ops, first);
   }
   return ops;
 }

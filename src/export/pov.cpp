@@ -32,6 +32,8 @@ const char* kHelpers = R"(// Kernels of the embossing model (docs/kernels.md), s
 #declare Emboss_Agnesi = function(T2, A, L) { A * A * A / (T2 + A * A) * Emboss_Taper(sqrt(T2) / L) }
 #declare Emboss_Punch = function(R2, A, P, Q, L) { P * A * A * A / (Q * R2 + A * A) * Emboss_Taper(sqrt(R2) / L) }
 #declare Emboss_Region = function(Inside, T2, H, L) { select(Inside - 0.5, H * L * L / (T2 + L * L) * Emboss_Taper(sqrt(T2) / L), H) }
+#declare Emboss_JoinS = function(S) { S * S * S * (10 + S * (-15 + 6 * S)) }
+#declare Emboss_Join = function(U) { Emboss_JoinS(min(max(0.5 * (U + 1), 0), 1)) }
 #declare Emboss_Mix = function(F, R, W) { select(W - 1, F + W * (R - F), R) }
 #declare Emboss_BU = function(F, G, A1, A2, A3) { F + G + sqrt(F * F + G * G) + A1 / (1 + pow(F / A2, 2) + pow(G / A3, 2)) }
 #declare Emboss_BS = function(F, G, A1, A2, A3) { F - G - sqrt(F * F + G * G) + A1 / (1 + pow(F / A2, 2) + pow(G / A3, 2)) }
@@ -81,8 +83,24 @@ std::string offsetTerm(const PreparedOp& prep, Deformation model) {
   const double L = o.characteristicLength();
   const std::string sign = o.sign() > 0 ? "+" : "-";
   switch (o.kind) {
-    case OpKind::Trace:
-      return sign + " Emboss_Agnesi(" + polylineD2(o.points, false) + ", " + num(o.a) + ", " + num(L) + ")";
+    case OpKind::Trace: {
+      if (!o.joinStart.on() && !o.joinEnd.on())
+        return sign + " Emboss_Agnesi(" + polylineD2(o.points, false) + ", " + num(o.a) + ", " + num(L) + ")";
+      // Joints (docs/kernels.md): the line continued through each for r, and the hand-over weights.
+      std::string d2 = polylineD2(o.points, false), weights;
+      for (int e = 0; e < 2; ++e) {
+        const TraceJoin& j = e == 0 ? o.joinStart : o.joinEnd;
+        if (!j.on()) continue;
+        const Vec2& at = e == 0 ? o.points.front() : o.points.back();
+        const double n = std::hypot(j.dir.x, j.dir.y);
+        const double s = (e == 0 ? -1.0 : 1.0) * j.r / n;
+        d2 = "min(" + d2 + ", " + polylineD2({at, {at.x + s * j.dir.x, at.y + s * j.dir.y}}, false) + ")";
+        const std::string u = "Emboss_Join((x - " + num(at.x) + ") * " + num(j.dir.x / (n * j.r)) + " + (y - " + num(at.y) + ") * " +
+                              num(j.dir.y / (n * j.r)) + ")";
+        weights += e == 0 ? " * " + u : " * (1 - " + u + ")";
+      }
+      return sign + " Emboss_Agnesi(" + d2 + ", " + num(o.a) + ", " + num(L) + ")" + weights;
+    }
     case OpKind::Punch: {
       std::string r2 = "pow(x - " + num(o.at.x) + ", 2) + pow(y - " + num(o.at.y) + ", 2)";
       if (model == Deformation::Offset) r2 += " + pow(z - " + num(o.at.z) + ", 2)";

@@ -30,6 +30,25 @@ inline Grad taper(const Grad& s) { return chain(s, taperWeight(s.v), taperWeight
 // The weight falls monotonically with s.
 inline Interval taper(const Interval& s) { return {taperWeight(s.hi), taperWeight(s.lo)}; }
 
+// The hand-over weight at a trace joint, of u = (P - J) . dir / r: 0 for u <= -1, 1 for u >= 1, the
+// quintic smootherstep of (u + 1) / 2 between (zero first and second derivatives at both ends).
+// Rising monotonically; joinStep(u) + (1 - joinStep(u)) = 1 for the two pieces at a joint.
+inline double joinWeight(double u) {
+  if (u <= -1.0) return 0.0;
+  if (u >= 1.0) return 1.0;
+  const double s = 0.5 * (u + 1.0);
+  return s * s * s * (10.0 + s * (-15.0 + 6.0 * s));
+}
+inline double joinWeightDerivative(double u) {
+  if (u <= -1.0 || u >= 1.0) return 0.0;
+  const double s = 0.5 * (u + 1.0);
+  return 15.0 * s * s * (1.0 - s) * (1.0 - s);  // d/ds is 30 s^2 (1 - s)^2, ds/du = 1/2
+}
+inline constexpr double kJoinMaxSlope = 0.9375;  // max of joinWeightDerivative (at u = 0)
+inline double joinStep(double u) { return joinWeight(u); }
+inline Grad joinStep(const Grad& u) { return chain(u, joinWeight(u.v), joinWeightDerivative(u.v)); }
+inline Interval joinStep(const Interval& u) { return {joinWeight(u.lo), joinWeight(u.hi)}; }
+
 // Squared distance, over t2 = |P'|^2 (or t^2 across a traced line), in the scalar type.
 // Witch of Agnesi, equation (2): a^3 / (t^2 + a^2), peak a at t = 0.
 template <class T>

@@ -146,6 +146,12 @@ std::string validate(const Operation& op) {
     case OpKind::Trace:
       if (!pos(op.a)) return "a: must be a positive number (mm)";
       if (op.points.empty()) return "points: a trace needs at least one point";
+      for (const auto* j : {&op.joinStart, &op.joinEnd}) {
+        const char* name = j == &op.joinStart ? "join_start" : "join_end";
+        if (!std::isfinite(j->r) || j->r < 0.0) return std::string(name) + ".r: must be a finite number >= 0 (mm)";
+        if (j->on() && (!finite(j->dir.x) || !finite(j->dir.y) || std::hypot(j->dir.x, j->dir.y) <= 1e-12))
+          return std::string(name) + ".dir: must be a direction (two finite numbers, not both zero)";
+      }
       break;
     case OpKind::Punch:
     case OpKind::Press:
@@ -187,8 +193,26 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
   switch (op_.kind) {
     case OpKind::Trace: {
       for (const auto& pt : op_.points) support_.extend(pt.x, pt.y);
-      support_ = support_.grown(reach);
       maxSlope_ = kAgnesiMaxSlope + op_.a * kTaperSlopeFactor / L;
+      for (int e = 0; e < 2; ++e) {
+        const TraceJoin& j = e == 0 ? op_.joinStart : op_.joinEnd;
+        if (!j.on()) continue;
+        Joint& k = joints_[e];
+        const Vec2& at = e == 0 ? op_.points.front() : op_.points.back();
+        const double n = std::hypot(j.dir.x, j.dir.y);
+        k.on = true;
+        k.px = at.x, k.py = at.y;
+        k.kx = j.dir.x / (n * j.r), k.ky = j.dir.y / (n * j.r);
+        // The line continued straight through the joint for r: backwards before the first point,
+        // forwards after the last one.
+        const double sx = (e == 0 ? -1.0 : 1.0) * j.dir.x / n * j.r, sy = (e == 0 ? -1.0 : 1.0) * j.dir.y / n * j.r;
+        k.e0 = at;
+        k.e1 = {at.x + sx, at.y + sy};
+        support_.extend(k.e1.x, k.e1.y);
+        // The weight's slope times the largest value it multiplies (the profile's peak a).
+        maxSlope_ += op_.a * kernels::kJoinMaxSlope / j.r;
+      }
+      support_ = support_.grown(reach);
       break;
     }
     case OpKind::Punch: {
@@ -242,8 +266,19 @@ T PreparedOp::offset(const P3<T>& p, Deformation model) const {
   const double L = o.characteristicLength();
   switch (o.kind) {
     case OpKind::Trace: {
-      const T t2 = polylineDistance2(p.x, p.y, o.points, false);
-      return o.sign() * tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
+      T t2 = polylineDistance2(p.x, p.y, o.points, false);
+      if (!joints_[0].on && !joints_[1].on) return o.sign() * tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
+      // Joints: the line continued through them, the hand-over weights (docs/kernels.md).
+      for (const Joint& k : joints_)
+        if (k.on) t2 = min(t2, kernels::segmentDistance2(p.x, p.y, k.e0.x, k.e0.y, k.e1.x, k.e1.y));
+      T v = tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
+      for (int e = 0; e < 2; ++e) {
+        const Joint& k = joints_[e];
+        if (!k.on) continue;
+        const T w = kernels::joinStep((p.x - k.px) * k.kx + (p.y - k.py) * k.ky);
+        v = v * (e == 0 ? w : T(1.0) - w);
+      }
+      return o.sign() * v;
     }
     case OpKind::Punch: {
       T r2 = sqr(p.x - o.at.x) + sqr(p.y - o.at.y);

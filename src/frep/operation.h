@@ -47,6 +47,18 @@ struct ToolShape {
   double size() const;
 };
 
+// Where a trace operation meets the piece of the same stroke before it (its first point) or after it
+// (its last point). Both pieces hold the same joint: the direction `dir` there (any length, not
+// zero) and the half width `r` (mm) of the stretch over which one piece hands over to the other.
+// Each piece's line is continued straight along `dir` for `r` beyond the joint and weighted by a
+// smooth step across it, so that the two weights sum to one: the joint is neither deepened (two
+// profiles summed) nor dimpled. r = 0: no joint (a free end). See docs/kernels.md.
+struct TraceJoin {
+  Vec2 dir;
+  double r = 0.0;
+  bool on() const { return r > 0.0; }
+};
+
 // One operation. Only the fields of its kind are meaningful; they are exactly the parameters its
 // equation uses (tools and metals have already been folded in when a stroke became an operation).
 struct Operation {
@@ -55,6 +67,7 @@ struct Operation {
   // trace: a; punch and press: a, p, q.
   double a = 1.0, p = 1.0, q = 1.0;
   std::vector<Vec2> points;  // trace and press: the path; region: the closed contour
+  TraceJoin joinStart, joinEnd;  // trace: the joints with the stroke's previous and next pieces
   Vec3 at;                   // punch: P1
   double height = 0.5;       // region: the uniform offset inside
   double falloff = 2.0;      // region: the characteristic length of the descent outside (mm)
@@ -90,7 +103,14 @@ class PreparedOp {
   double maxSlope() const { return maxSlope_; }
 
  private:
+  // A trace joint made ready: the joint point, dir / (|dir| r), the continuation segment.
+  struct Joint {
+    bool on = false;
+    double px = 0, py = 0, kx = 0, ky = 0;
+    Vec2 e0, e1;
+  };
   Operation op_;
+  Joint joints_[2];  // start, end
   Box2 support_;
   std::vector<Vec3> pressPoints_;
   double maxSlope_ = 0.0;

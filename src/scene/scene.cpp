@@ -92,6 +92,22 @@ std::vector<Vec2> points(const json& obj, const char* key, const std::string& wh
   return out;
 }
 
+// A trace joint, {"dir": [x, y], "r": mm}; absent: none.
+TraceJoin traceJoin(const json& obj, const char* key, const std::string& where) {
+  const json* v = find(obj, key);
+  if (!v) return {};
+  const std::string w = where + "." + key;
+  if (!v->is_object()) bad(w, "must be an object {\"dir\": [x, y], \"r\": mm}");
+  TraceJoin j;
+  const json* d = find(*v, "dir");
+  if (!d) bad(w + ".dir", "missing ([x, y] is required)");
+  const auto n = numbers(*d, w + ".dir", 2);
+  if (std::hypot(n[0], n[1]) <= 1e-12) bad(w + ".dir", "must not be zero");
+  j.dir = {n[0], n[1]};
+  j.r = positive(*v, "r", w);
+  return j;
+}
+
 Side side(const json& obj, const std::string& where, Side fallback) {
   const json* v = find(obj, "side");
   if (!v) return fallback;
@@ -136,6 +152,8 @@ Operation operation(const json& v, const std::string& where) {
     op.side = side(v, where, Side::Front);
     op.a = positive(v, "a", where);
     op.points = points(v, "points", where);
+    op.joinStart = traceJoin(v, "join_start", where);
+    op.joinEnd = traceJoin(v, "join_end", where);
   } else if (kind == "punch" || kind == "press") {
     op.kind = kind == "punch" ? OpKind::Punch : OpKind::Press;
     op.side = side(v, where, Side::Back);
@@ -254,7 +272,13 @@ json opJson(const Operation& o) {
   j["op"] = opKindName(o.kind);
   const char* s = o.side == Side::Back ? "back" : "front";
   switch (o.kind) {
-    case OpKind::Trace: j["side"] = s; j["a"] = o.a; j["points"] = pts(o.points); break;
+    case OpKind::Trace:
+      j["side"] = s;
+      j["a"] = o.a;
+      j["points"] = pts(o.points);
+      if (o.joinStart.on()) j["join_start"] = {{"dir", {o.joinStart.dir.x, o.joinStart.dir.y}}, {"r", o.joinStart.r}};
+      if (o.joinEnd.on()) j["join_end"] = {{"dir", {o.joinEnd.dir.x, o.joinEnd.dir.y}}, {"r", o.joinEnd.r}};
+      break;
     case OpKind::Punch: j["side"] = s; j["a"] = o.a; j["p"] = o.p; j["q"] = o.q; j["at"] = vec(o.at); break;
     case OpKind::Press: j["side"] = s; j["a"] = o.a; j["p"] = o.p; j["q"] = o.q; j["points"] = pts(o.points); break;
     case OpKind::Region: j["side"] = s; j["contour"] = pts(o.points); j["height"] = o.height; j["falloff"] = o.falloff; break;

@@ -76,6 +76,25 @@ std::vector<StrokePoint> resample(const std::vector<StrokePoint>& s, double spac
 
 }  // namespace
 
+void joinTracePieces(std::vector<Operation>& ops, size_t first) {
+  for (size_t i = first; i + 1 < ops.size(); ++i) {
+    Operation& a = ops[i];
+    Operation& b = ops[i + 1];
+    if (a.kind != OpKind::Trace || b.kind != OpKind::Trace || a.points.size() < 2 || b.points.empty()) continue;
+    const Vec2 p = a.points[a.points.size() - 2], q = a.points.back();
+    if (q.x != b.points.front().x || q.y != b.points.front().y) continue;
+    const double dx = q.x - p.x, dy = q.y - p.y, seg = std::hypot(dx, dy);
+    if (seg <= 1e-9) continue;
+    double len = 0;
+    for (size_t k = 1; k < a.points.size(); ++k) len += std::hypot(a.points[k].x - a.points[k - 1].x, a.points[k].y - a.points[k - 1].y);
+    TraceJoin j;
+    j.dir = {dx / seg, dy / seg};
+    j.r = std::min({1.5 * a.a, 0.4 * len, 1.6});
+    a.joinEnd = j;
+    b.joinStart = j;
+  }
+}
+
 std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& metal, const std::vector<StrokePoint>& stroke) {
   std::vector<Operation> ops;
   if (stroke.empty()) return ops;
@@ -101,6 +120,7 @@ std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& met
           len = 0, pressure = 0, n = 0;
         }
       }
+      joinTracePieces(ops);
       break;
     }
     case ToolKind::Punch:

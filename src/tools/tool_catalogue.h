@@ -52,4 +52,10 @@ Operation punchOp(const ToolSpec& tool, const Metal& metal, const Vec3& at, doub
 
 inline constexpr double kTraceSegment = 4.0;  // mm
 
+// Joins the consecutive trace operations ops[first..] of one line where one ends at the point the
+// next starts from (TraceJoin: no bead at the joints). The joint's direction is the last segment's
+// of the piece before it and its half width min(1.5 a, 0.4 length, 1.6 mm) of that piece: a joint
+// depends only on what comes before it, so a piece handed out under the pen never changes later.
+void joinTracePieces(std::vector<Operation>& ops, size_t first = 0);
+
 }  // namespace emboss

@@ -25,7 +25,8 @@ const char* kAllOps = R"({"format":"emboss-scene","version":1,"deformation":"%DE
    {"op":"press","side":"back","a":0.8,"p":0.1,"q":1,"points":[[-12,9],[10,10]]},
    {"op":"region","side":"back","contour":[[-14,-12],[-6,-12],[-6,-6],[-10,-3],[-14,-6]],"height":0.8,"falloff":1.2},
    {"op":"blend_union","tool":{"type":"sphere","center":[10,2,0.5],"r":2},"a1":0.8,"a2":1,"a3":2},
-   {"op":"trace","side":"back","a":0.5,"points":[[-2,-10],[4,-9]]},
+   {"op":"trace","side":"back","a":0.5,"points":[[-2,-10],[4,-9]],"join_end":{"dir":[6,1],"r":0.75}},
+   {"op":"trace","side":"back","a":0.45,"points":[[4,-9],[7,-6],[8,-2]],"join_start":{"dir":[6,1],"r":0.75}},
    {"op":"blend_subtract","tool":{"type":"flat","center":[-8,6,0.9],"size":[4,3,1]},"a1":0.1,"a2":1,"a3":1},
    {"op":"subtract","tool":{"type":"cylinder","center":[3,8,-2],"end":[3,8,2],"r":0.8}},
    {"op":"punch","side":"back","a":2,"p":0.3,"q":1,"at":[9,2,0.5]}]})";

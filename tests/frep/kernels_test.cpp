@@ -1,12 +1,14 @@
 // The paper's equations against values worked out by hand.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 
 #include "frep/kernels.h"
 #include "frep/model.h"
 #include "frep/workpieces.h"
 #include "scene/scene.h"
+#include "tools/tool_catalogue.h"
 
 namespace emboss {
 namespace {
@@ -225,6 +227,66 @@ TEST(Equations, PressPlacesPunchesAlongThePath) {
   const double h0 = prep.offset(P3<double>{10.0, 0, 0}, Deformation::Sheet);
   for (double x = 8.0; x <= 12.0; x += 0.05)
     EXPECT_NEAR(prep.offset(P3<double>{x, 0, 0}, Deformation::Sheet), h0, 5e-5 * h0);
+}
+
+// A stroke split into pieces (as a tracer's stroke is, every kTraceSegment mm): joined, the pieces
+// sum to the whole line's profile; unjoined, each joint is a bead of twice the depth.
+TEST(Equations, JoinedTracePiecesSumToTheWholeLine) {
+  Operation whole;
+  whole.kind = OpKind::Trace;
+  whole.side = Side::Front;
+  whole.a = 0.6;
+  for (int i = 0; i <= 24; ++i) whole.points.push_back({-12.0 + i, 0.0});
+  const PreparedOp one(whole);
+  std::vector<Operation> pieces;
+  for (int k = 0; k < 6; ++k) {
+    Operation piece = whole;
+    piece.points.assign(whole.points.begin() + 4 * k, whole.points.begin() + 4 * k + 5);
+    pieces.push_back(piece);
+  }
+  std::vector<PreparedOp> loose(pieces.begin(), pieces.end());
+  joinTracePieces(pieces);
+  ASSERT_TRUE(pieces[0].joinEnd.on());
+  ASSERT_FALSE(pieces[0].joinStart.on());
+  EXPECT_EQ(pieces[2].joinStart.r, pieces[1].joinEnd.r);
+  EXPECT_DOUBLE_EQ(pieces[1].joinEnd.r, 0.9);  // 1.5 a
+  std::vector<PreparedOp> joined(pieces.begin(), pieces.end());
+  double worstJoined = 0, worstLoose = 0;
+  for (double x = -14; x <= 14; x += 0.05)
+    for (double y = -2.5; y <= 2.5; y += 0.1) {
+      const P3<double> p{x, y, 0.0};
+      const double ref = one.offset(p, Deformation::Sheet);
+      double sj = 0, sl = 0;
+      for (const auto& o : joined) sj += o.offset(p, Deformation::Sheet);
+      for (const auto& o : loose) sl += o.offset(p, Deformation::Sheet);
+      worstJoined = std::max(worstJoined, std::abs(sj - ref));
+      worstLoose = std::max(worstLoose, std::abs(sl - ref));
+    }
+  EXPECT_LT(worstJoined, 1e-12);
+  EXPECT_NEAR(worstLoose, 0.6, 0.01);  // the bead: a second profile's peak a at each joint
+
+  // A bend and a change of pressure at a joint: no bead, no dimple, no step along the line.
+  Operation a = whole, b = whole;
+  a.points = {{-6, 0}, {0, 0}};
+  b.points = {{0, 0}, {4, 3}};
+  b.a = 0.5;
+  std::vector<Operation> bent{a, b};
+  joinTracePieces(bent);
+  const PreparedOp pa(bent[0]), pb(bent[1]);
+  auto along = [&](double t) {  // the line itself, parametrised across the joint
+    const P3<double> p = t < 0 ? P3<double>{t, 0.0, 0.0} : P3<double>{0.8 * t, 0.6 * t, 0.0};
+    return -(pa.offset(p, Deformation::Sheet) + pb.offset(p, Deformation::Sheet));
+  };
+  double prev = along(-3.0);
+  for (double t = -3.0; t <= 3.0; t += 0.01) {
+    const double v = along(t);
+    // Between the two depths, but for a dip of 1 % just after the 37-degree bend (the piece before
+    // is continued straight, off the new line; measured 0.4948).
+    EXPECT_GE(v, 0.98 * 0.5) << t;
+    EXPECT_LE(v, 0.6 + 1e-9) << t;
+    EXPECT_LT(std::abs(v - prev), 0.01) << t;
+    prev = v;
+  }
 }
 
 TEST(Equations, InvalidParametersAreRefused) {

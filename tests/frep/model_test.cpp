@@ -30,6 +30,13 @@ std::vector<Operation> randomOps(unsigned seed, int n, double extent) {
           op.points.push_back(p);
           p.x += 3 * (unit(rng) - 0.5), p.y += 3 * (unit(rng) - 0.5);
         }
+        // Half of them joined to a (notional) piece before or after.
+        for (TraceJoin* j : {&op.joinStart, &op.joinEnd}) {
+          if (unit(rng) < 0.5) continue;
+          const double angle = 6.283185307179586 * unit(rng);
+          j->dir = {std::cos(angle), std::sin(angle)};
+          j->r = 0.2 + unit(rng);
+        }
         break;
       }
       case 2:

@@ -30,7 +30,8 @@ TEST(SceneFile, EveryOperationRoundTrips) {
     "workpiece":{"type":"disc","r":30,"d":0.4},"metal":"brass","tinge":"green",
     "camera":{"type":"ortho","eye":[0,0,100],"target":[0,0,0],"up":[0,1,0],"fov_deg":30,"height":70},
     "operations":[
-      {"op":"trace","side":"front","a":0.5,"points":[[0,0],[10,0],[10,5]]},
+      {"op":"trace","side":"front","a":0.5,"points":[[0,0],[10,0],[10,5]],"join_end":{"dir":[0,1],"r":0.7}},
+      {"op":"trace","side":"front","a":0.5,"points":[[10,5],[12,9]],"join_start":{"dir":[0,1],"r":0.7}},
       {"op":"punch","side":"back","a":2,"p":0.3,"q":1.5,"at":[1,2,0.4]},
       {"op":"press","side":"front","a":1,"p":0.1,"q":1,"points":[[0,0],[5,5]]},
       {"op":"region","side":"back","contour":[[0,0],[5,0],[5,5]],"height":0.6,"falloff":1.5},
@@ -39,7 +40,10 @@ TEST(SceneFile, EveryOperationRoundTrips) {
       {"op":"subtract","tool":{"type":"cylinder","center":[-5,0,-1],"end":[-5,0,1],"r":1}}]})";
   auto s = parse(text);
   ASSERT_TRUE(s) << s.error();
-  ASSERT_EQ(s->operations.size(), 7u);
+  ASSERT_EQ(s->operations.size(), 8u);
+  EXPECT_EQ(s->operations[0].joinEnd.r, 0.7);
+  EXPECT_EQ(s->operations[1].joinStart.dir.y, 1.0);
+  EXPECT_FALSE(s->operations[1].joinEnd.on());
   auto m = s->makeModel();
   ASSERT_TRUE(m) << m.error();
   const std::string out = sceneToJson(*s, &*m);
@@ -65,6 +69,10 @@ TEST(SceneFile, MalformedFilesGetOneClearMessage) {
             "piece.json: operations[1].a: must be a number, not string");
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"trace","a":1,"points":[[0,0],[1]]}]})"),
             "piece.json: operations[0].points[1]: must be an array of 2 numbers");
+  EXPECT_EQ(errorOf(R"({"operations":[{"op":"trace","a":1,"points":[[0,0]],"join_end":{"dir":[0,0],"r":1}}]})"),
+            "piece.json: operations[0].join_end.dir: must not be zero");
+  EXPECT_EQ(errorOf(R"({"operations":[{"op":"trace","a":1,"points":[[0,0]],"join_start":{"dir":[1,0]}}]})"),
+            "piece.json: operations[0].join_start.r: missing (a number is required)");
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"twist"}]})"),
             "piece.json: operations[0].op: unknown operation \"twist\" (trace, punch, press, region, blend_union, subtract, blend_subtract)");
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"region","contour":[[0,0],[1,1]],"height":1,"falloff":1}]})"),
