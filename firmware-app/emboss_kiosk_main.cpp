@@ -252,7 +252,7 @@ int main(int argc, char** argv) {
         pen = std::move(*r);
         logLine("tablet: " + pen->name());
       } else {
-        logLine("tablet: " + r.error() + (mouse ? "; the mouse stands in" : "; looking again every 2 s"));
+        logLine("tablet: " + r.error() + (mouse ? "; the mouse stands in" : "; looking again every second"));
       }
     } else if (config.tablet != "none" && config.tablet != "auto") {
       logLine("tablet: unknown '" + config.tablet + "' (auto, evemu:PATH or none); going on without a pen");
@@ -316,12 +316,13 @@ int main(int argc, char** argv) {
       notifier->alive(now);
       if (runFor > 0 && now - t0 >= runFor) break;
       if (fast && (recordingFailed || app.feedDone())) break;
-      // A lost tablet: look for one again every 2 s (the mouse stands in meanwhile).
+      // A lost tablet: look for one again every second (the mouse stands in meanwhile), so a replugged
+      // tablet is back within two seconds of the kernel seeing it.
       if (app.penLost() && !replay) {
         pen.reset();
         attachPen();
       }
-      if (!pen && !replay && config.tablet == "auto" && !attractOnly && now - lastProbe > 2.0) {
+      if (!pen && !replay && config.tablet == "auto" && !attractOnly && now - lastProbe > 1.0) {
         lastProbe = now;
         if (auto r = openFirstTablet()) {
           pen = std::move(*r);

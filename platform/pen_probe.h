@@ -27,7 +27,7 @@ std::vector<DeviceReport> probeTablets();
 
 // Opens the first usable tablet: evdev nodes first (the kernel driver decodes; grabbed
 // exclusively), then hidraw devices decoded here (descriptor pens, Wacom fixed-packet models,
-// UC-Logic after the libusb handshake). Cheap enough to call every 2 s while no tablet is open;
+// UC-Logic after the libusb handshake). Cheap enough to call every second while no tablet is open;
 // each distinct failure is logged once. Fails with a summary when there is none.
 Result<std::unique_ptr<PenSource>> openFirstTablet();
 

@@ -45,8 +45,8 @@ hil_ensure_tools() {
 # The Debian kernel package linux-image-amd64 points at, downloaded once, unpacked and depmod'ed.
 hil_ensure_kernel() {
   mkdir -p "$HIL_CACHE" || return 77
-  if [ -z "${EMBOSS_HIL_REFRESH:-}" ] && [ -e "$HIL_CACHE/kernel/ready" ]; then
-    HIL_KDIR=$(readlink -f "$HIL_CACHE/kernel")
+  if [ -z "${EMBOSS_HIL_REFRESH:-}" ] && [ -e "$HIL_CACHE/current-kernel/ready" ]; then
+    HIL_KDIR=$(readlink -f "$HIL_CACHE/current-kernel")
     HIL_KVER=$(cat "$HIL_KDIR/ready")
     return 0
   fi
@@ -57,14 +57,14 @@ hil_ensure_kernel() {
     pkg=$(apt-cache depends linux-image-amd64 2>/dev/null | awk '/Depends: linux-image-[0-9]/ {print $2; exit}')
   fi
   if [ -z "$pkg" ]; then
-    if [ -e "$HIL_CACHE/kernel/ready" ]; then
-      HIL_KDIR=$(readlink -f "$HIL_CACHE/kernel"); HIL_KVER=$(cat "$HIL_KDIR/ready"); return 0
+    if [ -e "$HIL_CACHE/current-kernel/ready" ]; then
+      HIL_KDIR=$(readlink -f "$HIL_CACHE/current-kernel"); HIL_KVER=$(cat "$HIL_KDIR/ready"); return 0
     fi
     hil_log "apt cannot tell which kernel linux-image-amd64 is (no apt lists?)"
     return 77
   fi
   local kver=${pkg#linux-image-}
-  local kdir="$HIL_CACHE/kernel-$kver"
+  local kdir="$HIL_CACHE/kernel-$kver-kms"  # -kms: the DRM core and the small display drivers are kept
   if [ ! -e "$kdir/ready" ]; then
     hil_log "fetching $pkg"
     local tmp; tmp=$(mktemp -d "$HIL_CACHE/dl.XXXXXX")
@@ -73,9 +73,10 @@ hil_ensure_kernel() {
     rm -rf "$part" && mkdir -p "$part"
     dpkg -x "$tmp"/*.deb "$part" || { rm -rf "$tmp" "$part"; return 77; }
     rm -rf "$tmp"
-    # Modules a test never needs: sound, graphics, wireless, storage controllers (saves ~250 MB).
-    local m="$part/lib/modules/$kver/kernel"
-    rm -rf "$m/sound" "$m/drivers/gpu" "$m/drivers/net/wireless" "$m/drivers/infiniband" "$m/drivers/scsi" \
+    # Modules a test never needs: sound, the big GPU drivers (the DRM core and bochs stay, for the
+    # kms test), wireless, storage controllers (saves ~250 MB).
+    local m="$part/lib/modules/$kver/kernel" g="$part/lib/modules/$kver/kernel/drivers/gpu/drm"
+    rm -rf "$m/sound" "$g/amd" "$g/i915" "$g/nouveau" "$g/radeon" "$g/vmwgfx" "$g/gma500" "$g/xen" "$g/hyperv" "$m/drivers/net/wireless" "$m/drivers/infiniband" "$m/drivers/scsi" \
       "$m/drivers/staging" "$m/net/wireless" "$m/net/mac80211" "$m/drivers/net/ethernet" "$m/drivers/isdn" \
       "$m/drivers/md" "$m/fs/xfs" "$m/fs/btrfs" "$m/fs/ocfs2" "$m/fs/ceph" "$m/fs/nfs" "$m/fs/nfsd" "$m/fs/f2fs" \
       "$m/fs/gfs2" "$m/fs/cifs" "$m/fs/smb" "$m/drivers/media/dvb-frontends" "$m/drivers/media/tuners" \
@@ -89,8 +90,8 @@ hil_ensure_kernel() {
     echo "$kver" > "$part/ready"
     if [ -e "$kdir/ready" ]; then rm -rf "$part"; else rm -rf "$kdir" && mv "$part" "$kdir"; fi
   fi
-  ln -sfn "kernel-$kver" "$HIL_CACHE/kernel"
-  HIL_KDIR=$(readlink -f "$HIL_CACHE/kernel")
+  ln -sfn "kernel-$kver-kms" "$HIL_CACHE/current-kernel"
+  HIL_KDIR=$(readlink -f "$HIL_CACHE/current-kernel")
   HIL_KVER=$kver
 }
 
@@ -202,7 +203,8 @@ hil_boot() {
     -kernel "$HIL_KDIR/boot/vmlinuz-$HIL_KVER" -initrd "$HIL_INITRD"
     -append "console=ttyS0 quiet loglevel=3 panic=-1 hil.job=$job/job.sh hil.modules=$HIL_KDIR/lib/modules"
     -virtfs "local,path=/,mount_tag=host,security_model=none,readonly=on,multidevs=remap"
-    -serial stdio)
+    -serial stdio
+    -device bochs-display)  # a display for the kms test (bochs DRM driver); idle unless its module is loaded
   if [ "$accel" = tcg ]; then qemu+=(-accel tcg,thread=multi,tb-size=256); else qemu+=(-accel kvm); fi
   local t0=$SECONDS rc
   if [ "$quiet" = 1 ]; then
