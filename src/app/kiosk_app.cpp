@@ -386,8 +386,10 @@ void KioskApp::updateStaffView(double now) {
   const auto& c = composer_->counters();
   L.push_back("Tracing: " + std::to_string(c.dirtyRects) + " dirty updates, " + std::to_string(c.previews) + " previews, " +
               std::to_string(c.bands) + " bands");
-  L.push_back("Sessions: " + std::to_string(sessions_->list().size()) + " in " + sessions_->dir().string() + ", " +
-              std::to_string(sessions_->pendingCount()) + " waiting to be written");
+  // Two lines: a long folder would run off the screen beside the numbers.
+  L.push_back("Sessions: " + std::to_string(sessions_->list().size()) + " saved, " + std::to_string(sessions_->pendingCount()) +
+              " waiting to be written");
+  L.push_back("  in " + sessions_->dir().string());
   std::error_code ec;
   const auto sp = fs::space(sessions_->dir(), ec);
   if (!ec) L.push_back(fmt("Free space for sessions: %.0f MiB", sp.available / 1048576.0));
