@@ -12,20 +12,8 @@ set -u
 kiosk=$1 play=$2 evemu=$3
 args=${EMBOSS_HIL_KIOSK_ARGS:---display headless --size 320x200}
 events="$evemu/Genius EasyPen i405X.events"
-tmp=$(mktemp -d)
-fail=0
-t0=$(date +%s)
-at() { echo "$(($(date +%s) - t0)) s"; }
-ok() { echo "ok - $* [$(at)]"; }
-bad() { echo "FAIL - $* [$(at)]"; fail=$((fail + 1)); }
+. "$(dirname "$0")/checks.sh"
 holds() { ls -l "/proc/$1/fd" 2>/dev/null | grep -q " -> $2\$"; }
-wait_for() {  # wait_for SECONDS COMMAND...: true once COMMAND succeeds within SECONDS of wall time
-  deadline=$(($(date +%s) + $1)); shift
-  while ! "$@"; do
-    [ "$(date +%s)" -ge "$deadline" ] && return 1
-    sleep 0.2
-  done
-}
 start_tablet() {
   "$play" "$events" --before 0 --frame 0.005 --loop > "$tmp/play.out" 2>&1 &
   tablet=$!

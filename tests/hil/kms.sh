@@ -8,12 +8,7 @@
 # with a snapshot of the mode's size, and it is what `auto` picks before anything else.
 set -u
 kiosk=$1
-tmp=$(mktemp -d)
-fail=0
-t0=$(date +%s)
-at() { echo "$(($(date +%s) - t0)) s"; }
-ok() { echo "ok - $* [$(at)]"; }
-bad() { echo "FAIL - $* [$(at)]"; fail=$((fail + 1)); }
+. "$(dirname "$0")/checks.sh"
 
 card=$(ls /dev/dri/card* 2>/dev/null | head -1)
 if [ -z "$card" ]; then
