@@ -231,6 +231,11 @@ int main(int argc, char** argv) {
       keys = std::make_unique<KeyButtons>(config.keys, clock);
       app.addButtons(keys.get());
     }
+    // Why no tablet is in use (a tablet that was found but cannot be used is named, with the
+    // reason), for the staff screen; the whole text is in the log.
+    auto tabletNote = [&](const std::string& why) {
+      app.setDeviceNote("Tablet", why.size() > 160 ? why.substr(0, 157) + "..." : why);
+    };
     auto attachPen = [&] {
       if (attractOnly) return;
       if (pen) app.setPen(pen.get(), PenMapping::Tablet, fast);
@@ -253,6 +258,7 @@ int main(int argc, char** argv) {
         logLine("tablet: " + pen->name());
       } else {
         logLine("tablet: " + r.error() + (mouse ? "; the mouse stands in" : "; looking again every second"));
+        tabletNote(r.error());
       }
     } else if (config.tablet != "none" && config.tablet != "auto") {
       logLine("tablet: unknown '" + config.tablet + "' (auto, evemu:PATH or none); going on without a pen");
@@ -327,7 +333,10 @@ int main(int argc, char** argv) {
         if (auto r = openFirstTablet()) {
           pen = std::move(*r);
           logLine("tablet: " + pen->name());
+          tabletNote("");
           attachPen();
+        } else {
+          tabletNote(r.error());  // the log has it once (logOnce); the staff screen keeps it current
         }
       }
       // A lost camera: dropped, and looked for again every 3 s (capture drawing is off meanwhile).

@@ -25,6 +25,29 @@ constexpr size_t kStaffItems = 4;
 constexpr double kCameraCheckSeconds = 2.0;  // how often an idle camera is asked whether it is still there
 constexpr double kCaptureNoteSeconds = 8.0;  // how long a capture's outcome stays on the screen
 
+constexpr size_t kStaffLineChars = 56;  // what fits beside the staff menu at 1280x800
+
+// Splits text at spaces into lines of at most n characters (a longer word is cut).
+std::vector<std::string> wrapWords(const std::string& text, size_t n) {
+  std::vector<std::string> out;
+  std::string line;
+  size_t i = 0;
+  while (i < text.size()) {
+    const size_t sp = text.find(' ', i);
+    std::string word = text.substr(i, sp == std::string::npos ? std::string::npos : sp - i);
+    i = sp == std::string::npos ? text.size() : sp + 1;
+    while (word.size() > n) {
+      if (!line.empty()) out.push_back(line), line.clear();
+      out.push_back(word.substr(0, n));
+      word.erase(0, n);
+    }
+    if (!line.empty() && line.size() + 1 + word.size() > n) out.push_back(line), line.clear();
+    line += (line.empty() ? "" : " ") + word;
+  }
+  if (!line.empty()) out.push_back(line);
+  return out;
+}
+
 std::string fmt(const char* f, double a) {
   char buf[128];
   std::snprintf(buf, sizeof buf, f, a);
@@ -107,7 +130,12 @@ void KioskApp::setDisplay(Display& display) {
   }
 }
 
-void KioskApp::setDeviceNote(const std::string& key, const std::string& value) { deviceNotes_[key] = value; }
+void KioskApp::setDeviceNote(const std::string& key, const std::string& value) {
+  if (value.empty())
+    deviceNotes_.erase(key);
+  else
+    deviceNotes_[key] = value;
+}
 
 void KioskApp::setCamera(CameraSource* camera) {
   if (camera != camera_ && capture_.phase == CapturePhase::Running && capture_.job.valid()) {
@@ -386,10 +414,9 @@ void KioskApp::updateStaffView(double now) {
   const auto& c = composer_->counters();
   L.push_back("Tracing: " + std::to_string(c.dirtyRects) + " dirty updates, " + std::to_string(c.previews) + " previews, " +
               std::to_string(c.bands) + " bands");
-  // Two lines: a long folder would run off the screen beside the numbers.
   L.push_back("Sessions: " + std::to_string(sessions_->list().size()) + " saved, " + std::to_string(sessions_->pendingCount()) +
               " waiting to be written");
-  L.push_back("  in " + sessions_->dir().string());
+  L.push_back("Sessions folder: " + sessions_->dir().string());
   std::error_code ec;
   const auto sp = fs::space(sessions_->dir(), ec);
   if (!ec) L.push_back(fmt("Free space for sessions: %.0f MiB", sp.available / 1048576.0));
@@ -398,6 +425,13 @@ void KioskApp::updateStaffView(double now) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "Up %d:%02d:%02d", up / 3600, up / 60 % 60, up % 60);
   L.push_back(buf);
+  // Long lines (a tablet's reason, a deep folder) are wrapped to fit beside the menu.
+  std::vector<std::string> wrapped;
+  for (const auto& line : L) {
+    const auto parts = wrapWords(line, kStaffLineChars);
+    for (size_t k = 0; k < parts.size(); ++k) wrapped.push_back(k ? "  " + parts[k] : parts[k]);
+  }
+  L = std::move(wrapped);
 }
 
 Overlay KioskApp::overlay(double now) const {

@@ -58,8 +58,11 @@ class KioskApp {
   void addButtons(ButtonSource* buttons);
   // A display lost and re-created by main().
   void setDisplay(Display& display);
-  // A line for the staff screen's device list ("tablet", "evdev: Wacom ..."), set by main().
+  // A line for the staff screen's device list ("Tablet", "no tablet found: ..."), set by main();
+  // an empty value removes it.
   void setDeviceNote(const std::string& key, const std::string& value);
+  // The staff screen's diagnostics lines as last shown (staff mode only).
+  const std::vector<std::string>& staffLines() const { return staff_.lines; }
   // The camera for capture drawing (null: none). A capture under way finishes first.
   void setCamera(CameraSource* camera);
 

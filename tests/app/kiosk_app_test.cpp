@@ -500,6 +500,29 @@ TEST(AttractLibrary, ABrokenPieceIsSkippedWithAMessage) {
   EXPECT_FALSE(builtinAttractPieces().empty());
 }
 
+TEST(KioskApp, StaffScreenNamesAnUnusableTabletWithTheReason) {
+  const fs::path dir = test::scratchDir("kiosk-app-notes");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  KioskStart start;
+  start.staff = true;
+  KioskApp app(testConfig(dir), tinyPieces(), display, {}, [&] { return t; }, start);
+  const std::string why =
+      "no tablet found: /dev/hidraw0 (device 256c:006d: its report descriptor describes no pen (digitizer stylus with X and Y))";
+  app.setDeviceNote("Tablet", why);
+  app.step();
+  std::string all;
+  for (const auto& l : app.staffLines()) {
+    EXPECT_LE(l.size(), 58u) << l;  // wrapped to fit beside the menu
+    all += (all.empty() ? "" : " ") + (l.rfind("  ", 0) == 0 ? l.substr(2) : l);
+  }
+  EXPECT_NE(all.find("Tablet: " + why), std::string::npos) << all;
+  app.setDeviceNote("Tablet", "");
+  t += 0.1;
+  app.step();
+  for (const auto& l : app.staffLines()) EXPECT_EQ(l.find("Tablet:"), std::string::npos) << l;
+}
+
 TEST(KioskApp, AttractModeGoesOnWhereItWasAfterAStall) {
   const fs::path dir = test::scratchDir("kiosk-app-stall");
   double t = 0;
