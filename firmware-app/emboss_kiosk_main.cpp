@@ -188,6 +188,13 @@ int main(int argc, char** argv) {
       return 1;
     }
     X11Display* x11 = asX11Display(screen.get());
+    // A lost display is looked for again as the same kind: with auto, a screen that was unplugged
+    // from the board must come back on kms, not be replaced by the headless fallback.
+    std::string reprobe = config.display;
+    if (reprobe == "auto" && made) {
+      for (const char* kind : {"kms", "x11", "headless", "osmesa"})
+        if (screen->name().rfind(kind, 0) == 0) reprobe = kind;
+    }
 
     // ---- the attract pieces: from disk, else built in
     std::vector<AttractPiece> pieces;
@@ -352,7 +359,7 @@ int main(int argc, char** argv) {
       if (app.displayLost() && now - lastDisplayTry > 2.0) {
         lastDisplayTry = now;
         std::string log;
-        if (auto d = createDisplay(config.display, config.width, config.height, &log)) {
+        if (auto d = createDisplay(reprobe, config.width, config.height, &log)) {
           screen = std::move(*d);
           x11 = asX11Display(screen.get());
           app.setDisplay(*screen);

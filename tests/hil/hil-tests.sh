@@ -96,7 +96,7 @@ fi
   if want kms; then
     if [ -x "$kiosk" ]; then
       echo "hil_modprobe bochs"
-      printf 'hil_test kms 150 /bin/sh %q %q\n' "$HIL_DIR/kms.sh" "$kiosk"
+      printf 'hil_test kms 240 /bin/sh %q %q\n' "$HIL_DIR/kms.sh" "$kiosk"
     else
       skipped[kms]="emboss-kiosk is not built in $build"
     fi
