@@ -271,8 +271,10 @@ int main(int argc, char** argv) {
       logLine("tablet: unknown '" + config.tablet + "' (auto, evemu:PATH or none); going on without a pen");
     }
     attachPen();
+    std::optional<ButtonConfig> gpioConfig;  // the wiring, kept to open the buttons again
     if (!attractOnly && config.buttons != "none") {
       Result<ButtonConfig> bc = config.buttons == "auto" ? Result<ButtonConfig>(defaultButtonConfig()) : loadButtonConfig(config.buttons);
+      if (bc) gpioConfig = *bc;
       if (!bc) {
         logLine("buttons: " + bc.error());
       } else if (auto g = openGpioButtons(*bc)) {
@@ -305,7 +307,7 @@ int main(int argc, char** argv) {
 
     notifier->ready(attractOnly ? "attract mode only" : "attract mode");
     const double t0 = monotonicSeconds();
-    double lastProbe = t0, lastDisplayTry = t0, lastCameraProbe = t0;
+    double lastProbe = t0, lastDisplayTry = t0, lastCameraProbe = t0, lastGpioProbe = t0;
     std::vector<X11Event> xev;
     bool closed = false;
     while (!gStop) {
@@ -344,6 +346,21 @@ int main(int argc, char** argv) {
           attachPen();
         } else {
           tabletNote(r.error());  // the log has it once (logOnce); the staff screen keeps it current
+        }
+      }
+      // GPIO buttons that stopped answering (a USB GPIO adapter pulled out, a chip's driver gone)
+      // were dropped by the app; they are opened again every 3 s, as is a chip that was not there
+      // at start (its driver may come up after the kiosk). The keyboard stands in meanwhile.
+      if (gpio && !app.hasButtons(gpio.get())) {
+        gpio.reset();
+        lastGpioProbe = now;
+      }
+      if (!gpio && gpioConfig && now - lastGpioProbe > 3.0) {
+        lastGpioProbe = now;
+        if (auto g = openGpioButtons(*gpioConfig)) {
+          gpio = std::move(*g);
+          app.addButtons(gpio.get());
+          logLine("buttons: back: " + gpio->name());
         }
       }
       // A lost camera: dropped, and looked for again every 3 s (capture drawing is off meanwhile).

@@ -2,6 +2,7 @@
 // time through the device interfaces (src/devices) only.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <deque>
 #include <filesystem>
@@ -56,6 +57,8 @@ class KioskApp {
   // display frame's worth of its samples per step, each stamped when taken.
   void setPen(PenSource* pen, PenMapping mapping, bool fast = false);
   void addButtons(ButtonSource* buttons);
+  // Whether a button source is still in use (one that stopped answering has been dropped).
+  bool hasButtons(const ButtonSource* buttons) const { return std::find(buttons_.begin(), buttons_.end(), buttons) != buttons_.end(); }
   // A display lost and re-created by main().
   void setDisplay(Display& display);
   // A line for the staff screen's device list ("Tablet", "no tablet found: ..."), set by main();

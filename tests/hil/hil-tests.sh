@@ -5,7 +5,7 @@
 # (', N skipped' when some could not run). Exit 0 when all ran passed, 1 when one failed, 77 when
 # this machine cannot run the VM at all (no qemu and no way to install it, no kernel package).
 #
-# Tests (default: all): evdev-uinput emboss-input hidraw-uhid gpio-cp2112 camera-vivid usb-gadget kiosk kms
+# Tests (default: all): evdev-uinput emboss-input hidraw-uhid gpio-cp2112 camera-vivid usb-gadget kiosk kiosk-buttons kms
 # EMBOSS_HIL_TIMEOUT: the whole VM's time limit in seconds (default 600). EMBOSS_HIL_KIOSK_ARGS: the
 # arguments of a headless emboss-kiosk run (default "--display headless --size 320x200"). EMBOSS_HIL_VERBOSE=1: echo
 # the VM's console while it runs. EMBOSS_HIL_LOG=FILE: keep the whole console log.
@@ -19,7 +19,7 @@ HIL_DIR="$src/tests/hil"
 # shellcheck source=tests/hil/vm-lib.sh
 . "$HIL_DIR/vm-lib.sh"
 
-all=(evdev-uinput emboss-input hidraw-uhid gpio-cp2112 camera-vivid usb-gadget kiosk kms)
+all=(evdev-uinput emboss-input hidraw-uhid gpio-cp2112 camera-vivid usb-gadget kiosk kiosk-buttons kms)
 if [ $# -gt 0 ]; then wanted=("$@"); else wanted=("${all[@]}"); fi
 declare -A skipped=()
 want() {  # a wanted test that is not skipped
@@ -91,6 +91,14 @@ fi
         "$HIL_DIR/kiosk.sh" "$kiosk" "$bin/uinput_play" "$fixtures/evemu"
     else
       skipped[kiosk]="emboss-kiosk is not built in $build (not written yet?)"
+    fi
+  fi
+  if want kiosk-buttons; then
+    if [ -x "$kiosk" ]; then
+      echo "hil_modprobe uhid hid-cp2112"
+      printf 'hil_test kiosk-buttons 240 %q %q\n' "$bin/hil_kiosk_buttons" "$kiosk"
+    else
+      skipped[kiosk-buttons]="emboss-kiosk is not built in $build"
     fi
   fi
   if want kms; then
