@@ -193,18 +193,24 @@ void HeightField::updateLeaves(int la0, int lb0, int la1, int lb1) {
               }
             }
         }
-      // The patch and its derivatives lie in the convex hulls of their Bezier nets; a small
-      // margin covers the rounding of the evaluation.
-      const double m = 1e-7 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
-      const double gm = 1e-6 * (1.0 + std::max({std::abs(uLo), std::abs(uHi), std::abs(vLo), std::abs(vHi)}));
-      Node& n = l.nodes[static_cast<size_t>(lb) * l.w + la];
-      n.lo = roundDown(lo - m);
-      n.hi = roundUp(hi + m);
-      n.gxlo = roundDown((uLo - gm) * invS_);
-      n.gxhi = roundUp((uHi + gm) * invS_);
-      n.gylo = roundDown((vLo - gm) * invS_);
-      n.gyhi = roundUp((vHi + gm) * invS_);
+      l.nodes[static_cast<size_t>(lb) * l.w + la] = leafNode(lo, hi, uLo, uHi, vLo, vHi);
     }
+}
+
+HeightField::Node HeightField::leafNode(double lo, double hi, double uLo, double uHi, double vLo, double vHi) const {
+  // The patch and its derivatives lie in the convex hulls of their Bezier nets; a small margin
+  // covers the rounding of the evaluation.
+  const double m = 1e-7 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
+  const double gm = 1e-6 * (1.0 + std::max({std::abs(uLo), std::abs(uHi), std::abs(vLo), std::abs(vHi)}));
+  return {roundDown(lo - m), roundUp(hi + m), roundDown((uLo - gm) * invS_), roundUp((uHi + gm) * invS_),
+          roundDown((vLo - gm) * invS_), roundUp((vHi + gm) * invS_)};
+}
+
+void HeightField::finishFlat() {
+  // Every sample is zero (configure()): every patch is zero, so every leaf is the leaf of a zero
+  // net, and every level above is the same node.
+  const Node zero = leafNode(0, 0, 0, 0, 0, 0);
+  for (Level& l : levels_) std::fill(l.nodes.begin(), l.nodes.end(), zero);
 }
 
 void HeightField::updateLevels(int la0, int lb0, int la1, int lb1) {

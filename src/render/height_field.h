@@ -80,6 +80,9 @@ class HeightField {
   void recompute(const SampleRect& r, std::span<const PreparedOp* const> ops);
   // After add()/recompute() over r: refreshes the twists around r and the pyramid above it.
   void finish(const SampleRect& r, ThreadPool* pool = nullptr);
+  // Right after configure() (every sample zero: no operation moves the sheet): the bounds that
+  // recompute() and finish() over all() would give, without visiting the samples.
+  void finishFlat();
 
   // D at (x, y) (inside domain()); with its gradient.
   double value(double x, double y) const;
@@ -108,6 +111,8 @@ class HeightField {
   void updateTwist(const SampleRect& r);
   void updateLeaves(int la0, int lb0, int la1, int lb1);
   void updateLevels(int la0, int lb0, int la1, int lb1);
+  // A leaf's bounds from the extremes of its patches' Bezier nets (values, u and v derivatives).
+  Node leafNode(double lo, double hi, double uLo, double uHi, double vLo, double vHi) const;
 
   double x0_ = 0, y0_ = 0, s_ = 1, invS_ = 1, xMax_ = 0, yMax_ = 0;
   int nx_ = 0, ny_ = 0;

@@ -192,8 +192,14 @@ void Renderer::rebuildField(const Model& model) {
   const auto* vm = dynamic_cast<const VmWorkpiece*>(w);
   if (vm && vm->isPlate()) workpieceKind_ = 4;
   if (workpieceKind_ == 4) buildColumns();
-  recomputeField(model, field_.all());
-  field_.finish(field_.all(), &pool_);
+  bool anyOffset = false;
+  for (size_t i = 0; i < model.activeCount() && !anyOffset; ++i) anyOffset = model.operations()[i].op().isOffset();
+  if (anyOffset) {
+    recomputeField(model, field_.all());
+    field_.finish(field_.all(), &pool_);
+  } else {
+    field_.finishFlat();  // a bare sheet (a new attract piece, a new visitor): nothing to visit
+  }
   fieldReady_ = true;
   lastSync_.rebuilt = true;
   lastSync_.samplesUpdated += field_.all().count();

@@ -108,6 +108,35 @@ TEST(HeightField, IncrementalUpdatesEqualAFullBuildBitForBit) {
   }
 }
 
+// A bare sheet's field made without visiting its samples (finishFlat) is the field a full build
+// makes: the same samples and, for any box, the very same bounds.
+TEST(HeightField, FlatFinishEqualsAFullBuildOfABareSheet) {
+  const Box2 domain{-152.5, -107.5, 152.5, 107.5};  // an A4 plate and its margin
+  HeightField built, flat;
+  built.configure(domain, 0.125);
+  built.recompute(built.all(), {});
+  built.finish(built.all());
+  flat.configure(domain, 0.125);
+  flat.finishFlat();
+  expectSameSamples(flat, built);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x(domain.x0, domain.x1), y(domain.y0, domain.y1), size(0.01, 80.0);
+  for (int k = 0; k < 2000; ++k) {
+    const double x0 = x(rng), y0 = y(rng);
+    const Box2 b{x0, y0, std::min(domain.x1, x0 + size(rng)), std::min(domain.y1, y0 + size(rng))};
+    const HeightField::Bound p = flat.bound(b), q = built.bound(b);
+    ASSERT_EQ(p.lo, q.lo);
+    ASSERT_EQ(p.hi, q.hi);
+    ASSERT_EQ(p.gxlo, q.gxlo);
+    ASSERT_EQ(p.gxhi, q.gxhi);
+    ASSERT_EQ(p.gylo, q.gylo);
+    ASSERT_EQ(p.gyhi, q.gyhi);
+  }
+  const HeightField::Bound whole = flat.bound(domain);
+  EXPECT_LE(whole.lo, 0.0);
+  EXPECT_GE(whole.hi, 0.0);
+}
+
 // The pyramid's bounds hold the interpolated field and its slopes everywhere in their box.
 TEST(HeightField, BoundsAreConservative) {
   const GeneratedPiece piece = densePiece(600, 9);
