@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
     if (!tablet.empty()) config.tablet = tablet;
     if (!buttons.empty()) config.buttons = buttons;
     if (!camera.empty()) {
-      if (camera != "auto" && camera != "none" && camera.rfind("/dev/", 0) != 0 && !(camera.size() > 5 && camera.rfind("file:", 0) == 0)) {
+      if (!isCameraSpec(camera)) {
         logLine("--camera must be auto, none, /dev/videoN or file:PNG, not '" + camera + "'");
         return 2;
       }

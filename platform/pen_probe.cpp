@@ -3,9 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <mutex>
 #include <optional>
-#include <set>
 
 #include "input/evdev_pen_state.h"
 #include "input/hid_decode.h"

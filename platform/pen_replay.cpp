@@ -1,7 +1,6 @@
 // The replay pen: a PenSource playing recorded samples (evemu, hid-recorder) in real time or at once.
 #include "pen_replay.h"
 
-#include <time.h>
 
 #include <algorithm>
 

@@ -76,7 +76,6 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
   if (&model != model_) {
     slot_ = &slotFor(model);
     renderer_ = slot_->renderer.get();
-    if (slot_->model != &model) slot_->model = nullptr;  // synced below
   }
   slot_->lastUse = ++uses_;
   const std::string sk = std::string(shading.metal.name) + "/" + std::string(shading.tinge.name) + "/" +

@@ -515,11 +515,7 @@ void KioskApp::pollCapture(double now) {
   if (!r) {
     if (log_) log_("capture: " + r.error());
     // A camera gone is noticed at once rather than at the next check.
-    if (camera_ && !camera_->present()) {
-      if (log_) log_("camera: '" + camera_->name() + "' is gone; capture drawing is off until a camera is back");
-      camera_ = nullptr;
-      cameraLost_ = true;
-    }
+    if (camera_ && !camera_->present()) dropCamera();
     const bool noSheet = r.error().find("no sheet") != std::string::npos;
     const bool noDrawing = r.error().find("no drawing") != std::string::npos;
     captureNote(now, noSheet ? "No sheet of paper found: hold it flat under the camera" :
@@ -562,7 +558,10 @@ void KioskApp::discardCapture(const std::string& why) {
 void KioskApp::checkCamera(double now) {
   if (!camera_ || capture_.phase == CapturePhase::Running || now - lastCameraCheck_ < kCameraCheckSeconds) return;
   lastCameraCheck_ = now;
-  if (camera_->present()) return;
+  if (!camera_->present()) dropCamera();
+}
+
+void KioskApp::dropCamera() {
   if (log_) log_("camera: '" + camera_->name() + "' is gone; capture drawing is off until a camera is back");
   camera_ = nullptr;
   cameraLost_ = true;

@@ -139,6 +139,7 @@ class KioskApp {
   void discardCapture(const std::string& why);
   void captureNote(double now, const std::string& message, bool error);
   void checkCamera(double now);
+  void dropCamera();  // the camera is gone: no longer used, reported lost
 
   KioskConfig config_;
   Display* display_;

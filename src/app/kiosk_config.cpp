@@ -31,6 +31,10 @@ bool toNumber(const std::string& s, double& out) {
 
 }  // namespace
 
+bool isCameraSpec(const std::string& s) {
+  return s == "auto" || s == "none" || s.rfind("/dev/", 0) == 0 || (s.size() > 5 && s.rfind("file:", 0) == 0);
+}
+
 bool parseSizeWxH(const std::string& s, int& w, int& h) {
   int a = 0, b = 0;
   char tail = 0;
@@ -90,7 +94,7 @@ KioskConfig parseKioskConfig(const std::string& text, const std::string& name, K
       if (v.empty()) warn("buttons must be auto, none or the path of a buttons.json");
       else c.buttons = v;
     } else if (key == "camera") {
-      if (v == "auto" || v == "none" || (v.size() > 5 && v.rfind("file:", 0) == 0) || v.rfind("/dev/", 0) == 0) c.camera = v;
+      if (isCameraSpec(v)) c.camera = v;
       else warn("camera must be auto, none, /dev/videoN or file:PNG, not '" + v + "'");
     } else if (key == "tablet_aspect") {
       positive(key, v, c.tabletAspect);

@@ -47,5 +47,8 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path, KioskConfig base,
 
 // "1280x800" -> 1280, 800 (each 16..16384). False when malformed.
 bool parseSizeWxH(const std::string& s, int& w, int& h);
+// Whether s names a camera as the `camera` key and --camera take it: auto, none, /dev/videoN or
+// file:PNG.
+bool isCameraSpec(const std::string& s);
 
 }  // namespace emboss

@@ -86,17 +86,14 @@ std::string offsetTerm(const PreparedOp& prep, Deformation model) {
     case OpKind::Trace: {
       if (!o.joinStart.on() && !o.joinEnd.on())
         return sign + " Emboss_Agnesi(" + polylineD2(o.points, false) + ", " + num(o.a) + ", " + num(L) + ")";
-      // Joints (docs/kernels.md): the line continued through each for r, and the hand-over weights.
+      // Joints (docs/kernels.md): the line continued through each for r, and the hand-over weights,
+      // as PreparedOp made them ready.
       std::string d2 = polylineD2(o.points, false), weights;
       for (int e = 0; e < 2; ++e) {
-        const TraceJoin& j = e == 0 ? o.joinStart : o.joinEnd;
-        if (!j.on()) continue;
-        const Vec2& at = e == 0 ? o.points.front() : o.points.back();
-        const double n = std::hypot(j.dir.x, j.dir.y);
-        const double s = (e == 0 ? -1.0 : 1.0) * j.r / n;
-        d2 = "min(" + d2 + ", " + polylineD2({at, {at.x + s * j.dir.x, at.y + s * j.dir.y}}, false) + ")";
-        const std::string u = "Emboss_Join((x - " + num(at.x) + ") * " + num(j.dir.x / (n * j.r)) + " + (y - " + num(at.y) + ") * " +
-                              num(j.dir.y / (n * j.r)) + ")";
+        const PreparedOp::Joint& k = prep.joint(e);
+        if (!k.on) continue;
+        d2 = "min(" + d2 + ", " + polylineD2({k.e0, k.e1}, false) + ")";
+        const std::string u = "Emboss_Join((x - " + num(k.px) + ") * " + num(k.kx) + " + (y - " + num(k.py) + ") * " + num(k.ky) + ")";
         weights += e == 0 ? " * " + u : " * (1 - " + u + ")";
       }
       return sign + " Emboss_Agnesi(" + d2 + ", " + num(o.a) + ", " + num(L) + ")" + weights;

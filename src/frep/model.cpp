@@ -2,7 +2,6 @@
 #include "frep/model.h"
 
 #include <atomic>
-
 #include <cmath>
 
 #include "frep/kernels.h"
@@ -24,13 +23,11 @@ struct AllIndices {
   It end() const { return {static_cast<std::uint32_t>(n)}; }
 };
 
-}  // namespace
-
-namespace {
 // Operation ids come from one counter for the whole process, so an id names one operation of one
 // model: a cache that followed another model (or a model since destroyed) can never mistake an
 // operation for one it has seen.
 std::atomic<std::uint64_t> gNextOperationId{1};
+
 }  // namespace
 
 Model::Model(std::shared_ptr<const Workpiece> workpiece, Deformation deformation)

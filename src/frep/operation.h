@@ -101,14 +101,17 @@ class PreparedOp {
   const std::vector<Vec3>& pressPoints() const { return pressPoints_; }
   // An upper bound of |grad offset| in the plane (mm/mm), for Lipschitz bounds.
   double maxSlope() const { return maxSlope_; }
-
- private:
-  // A trace joint made ready: the joint point, dir / (|dir| r), the continuation segment.
+  // A trace joint made ready: the joint point, dir / (|dir| r) (the weight's argument is
+  // (P - point) . k), and the continuation segment e0-e1.
   struct Joint {
     bool on = false;
     double px = 0, py = 0, kx = 0, ky = 0;
     Vec2 e0, e1;
   };
+  // Trace only: the joints with the stroke's previous (0) and next (1) pieces.
+  const Joint& joint(int end) const { return joints_[end]; }
+
+ private:
   Operation op_;
   Joint joints_[2];  // start, end
   Box2 support_;
