@@ -85,4 +85,14 @@ inline std::string findCp2112Chip() {
   return "";
 }
 
+// Creates the emulated chip and waits for the driver's gpiochip; both are checks. Returns its name
+// ("gpiochipN"), or "" when either failed.
+inline std::string startCp2112(Cp2112& chip) {
+  if (!check(chip.create(), "uhid CP2112 created %s", chip.error().c_str())) return "";
+  std::string name;
+  waitFor([&] { return !(name = findCp2112Chip()).empty(); }, 5.0, 0.05);
+  check(!name.empty(), "hid-cp2112 registered a gpiochip for it (%s)", name.empty() ? "none: is hid-cp2112 loaded?" : name.c_str());
+  return name;
+}
+
 }  // namespace hil

@@ -78,11 +78,8 @@ emboss::ButtonConfig config(const std::string& chip, double debounceS) {
 
 int main() {
   hil::Cp2112 chip;
-  if (!hil::check(chip.create(), "uhid CP2112 created %s", chip.error().c_str())) return hil::finish("hil_gpio_cp2112");
-  std::string name;
-  hil::waitFor([&] { return !(name = hil::findCp2112Chip()).empty(); }, 5.0, 0.05);
-  if (!hil::check(!name.empty(), "hid-cp2112 registered a gpiochip for it (%s)", name.empty() ? "none: is hid-cp2112 loaded?" : name.c_str()))
-    return hil::finish("hil_gpio_cp2112");
+  const std::string name = hil::startCp2112(chip);
+  if (name.empty()) return hil::finish("hil_gpio_cp2112");
   const auto chips = emboss::listGpioChips();
   hil::check(std::find(chips.begin(), chips.end(), "/dev/" + name) != chips.end(), "listGpioChips lists /dev/%s", name.c_str());
 

@@ -41,11 +41,8 @@ int main(int argc, char** argv) {
   const auto log = dir / "kiosk.log", config = dir / "buttons.json";
 
   hil::Cp2112 chip;
-  if (!hil::check(chip.create(), "uhid CP2112 created %s", chip.error().c_str())) return hil::finish("hil_kiosk_buttons");
-  std::string name;
-  hil::waitFor([&] { return !(name = hil::findCp2112Chip()).empty(); }, 5.0, 0.05);
-  if (!hil::check(!name.empty(), "hid-cp2112 registered a gpiochip for it (%s)", name.empty() ? "none" : name.c_str()))
-    return hil::finish("hil_kiosk_buttons");
+  const std::string name = hil::startCp2112(chip);
+  if (name.empty()) return hil::finish("hil_kiosk_buttons");
   // Line 0 next tool, 1 undo, 3 new sheet with staff on a long press; 20 ms debounce (the chip's
   // driver polls every 40 ms, the presses below last 400 ms and more).
   // The chip by its label, as for any USB GPIO adapter: its number may change when it comes back.
