@@ -34,7 +34,17 @@ install(FILES ${EMBOSS_PIECE_FILES} DESTINATION ${CMAKE_INSTALL_DATADIR}/emboss/
 file(GLOB EMBOSS_DOC_FILES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/docs/*.md)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${EMBOSS_DOC_FILES} ${PROJECT_SOURCE_DIR}/platform/debian/copyright
         DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT ${EMBOSS_COMPONENT})
-string(TIMESTAMP EMBOSS_CHANGELOG_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)  # honours SOURCE_DATE_EPOCH
+# The changelog's date: SOURCE_DATE_EPOCH, else the last commit's, so it changes with the sources only.
+set(EMBOSS_MAINTAINER "emboss maintainers <emboss-maintainers@example.org>" CACHE STRING
+    "The package's Maintainer field and changelog signature (set the museum's own)")
+if(NOT DEFINED ENV{SOURCE_DATE_EPOCH} AND EXISTS ${PROJECT_SOURCE_DIR}/.git)
+  execute_process(COMMAND git -C ${PROJECT_SOURCE_DIR} log -1 --format=%ct
+                  OUTPUT_VARIABLE commit_time OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+  if(commit_time MATCHES "^[0-9]+$")
+    set(ENV{SOURCE_DATE_EPOCH} ${commit_time})
+  endif()
+endif()
+string(TIMESTAMP EMBOSS_CHANGELOG_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)
 configure_file(${PROJECT_SOURCE_DIR}/platform/debian/changelog.in ${PROJECT_BINARY_DIR}/debian/changelog @ONLY)
 
 # Man pages from each program's --help and --version (help2man), compressed as Debian wants them.

@@ -1,6 +1,6 @@
 # The Debian package (cpack -G DEB in the build folder; platform/debian/make-deb.sh does it all).
 # Only the install component "kiosk" goes in: never the test binary or build tools.
-set(EMBOSS_MAINTAINER "emboss maintainers <emboss@localhost>" CACHE STRING "The package's Maintainer field")
+# EMBOSS_MAINTAINER: platform/debian/install.cmake.
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME emboss)
