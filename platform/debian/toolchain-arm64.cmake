@@ -10,11 +10,11 @@ set(CMAKE_CXX_COMPILER ${EMBOSS_TRIPLET}-g++)
 set(CMAKE_STRIP ${EMBOSS_TRIPLET}-strip CACHE FILEPATH "")
 set(CMAKE_OBJCOPY ${EMBOSS_TRIPLET}-objcopy CACHE FILEPATH "")
 
-# Headers and libraries of the board from the multiarch folders; programs (pkg-config, git) from here.
+# Headers and libraries of the board from the multiarch folders; programs (pkg-config, git) from
+# here, pkg-config looking only at the arm64 .pc files.
 set(CMAKE_LIBRARY_ARCHITECTURE ${EMBOSS_TRIPLET})
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 set(ENV{PKG_CONFIG_LIBDIR} "/usr/lib/${EMBOSS_TRIPLET}/pkgconfig:/usr/share/pkgconfig")
-set(PKG_CONFIG_EXECUTABLE ${EMBOSS_TRIPLET}-pkg-config CACHE FILEPATH "")
 
 # Tests, test discovery and help2man run the arm64 programs through qemu-user; the arm64 loader
 # and libraries are the multiarch ones the -dev packages installed, so no -L is needed.
