@@ -19,7 +19,7 @@ sudo=""
 arm64_dev=(libgtest-dev libgmock-dev libpng-dev libjpeg62-turbo-dev libfreetype-dev libegl-dev libgles-dev
            libgbm-dev libdrm-dev libosmesa6-dev libx11-dev libsystemd-dev libgpiod-dev libusb-1.0-0-dev
            libhidapi-dev libevdev-dev libudev-dev)
-host_tools=(crossbuild-essential-arm64 qemu-user-static pkg-config cmake ninja-build git help2man dpkg-dev
+host_tools=(crossbuild-essential-arm64 qemu-user-static pkg-config cmake ninja-build git help2man dpkg-dev file
             nlohmann-json3-dev libcli11-dev libglm-dev)
 wanted=("${host_tools[@]}" "${arm64_dev[@]/%/:arm64}")
 missing=()
@@ -37,10 +37,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get install -y -q --no-install-recommends "${missing[@]}" >&2
 fi
 
-# ---- build (Release, as packaged), with the tests
+# ---- build (as packaged: release-flags.cmake), with the tests
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr \
+cmake -C platform/debian/release-flags.cmake -S . -B "$build" -G Ninja \
   -DCMAKE_TOOLCHAIN_FILE="$top/platform/debian/toolchain-arm64.cmake" "${launcher[@]}" >&2
 cmake --build "$build" -j "${EMBOSS_JOBS:-$(nproc)}" >&2
 file "$build/firmware-app/emboss-kiosk" | grep -q "ARM aarch64" || { log "emboss-kiosk is not an arm64 program"; exit 1; }

@@ -59,14 +59,17 @@ install(FILES ${PROJECT_BINARY_DIR}/debian/changelog.gz DESTINATION ${CMAKE_INST
 find_program(HELP2MAN help2man)
 if(HELP2MAN)
   set(EMBOSS_MAN_PAGES "")
-  # program | section | one line for NAME
-  foreach(entry "emboss|1|render, evaluate and export virtual embossing scenes"
-                "emboss-kiosk|8|the virtual metal embossing exhibit"
-                "emboss-input|1|look at pen tablets: descriptors, recordings, live devices")
+  # program | section | the option that prints the whole help | one line for NAME. The sections
+  # help2man cannot see (files, exit status, see also) are in platform/debian/man/PROGRAM.h2m.
+  foreach(entry "emboss|1|--help-all|render, evaluate and export virtual embossing scenes"
+                "emboss-kiosk|8|--help|the virtual metal embossing exhibit"
+                "emboss-input|1|--help|look at pen tablets: descriptors, recordings, live devices")
     string(REPLACE "|" ";" entry "${entry}")
     list(GET entry 0 prog)
     list(GET entry 1 section)
-    list(GET entry 2 what)
+    list(GET entry 2 help_option)
+    list(GET entry 3 what)
+    set(include ${PROJECT_SOURCE_DIR}/platform/debian/man/${prog}.h2m)
     if(NOT TARGET ${prog})
       continue()
     endif()
@@ -81,9 +84,10 @@ if(HELP2MAN)
     endif()
     add_custom_command(OUTPUT ${page}.gz
       COMMAND ${HELP2MAN} --no-info --no-discard-stderr --section=${section} --name=${what}
+              --help-option=${help_option} --include=${include}
               --manual=emboss --source=emboss --output=${page} ${runner}
       COMMAND ${GZIP} -9nf ${page}
-      DEPENDS ${prog}
+      DEPENDS ${prog} ${include}
       COMMENT "man page ${prog}(${section})"
       VERBATIM)
     list(APPEND EMBOSS_MAN_PAGES ${page}.gz)

@@ -14,14 +14,10 @@ launcher=()
 if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 fi
-# The package needs no tests; EMBOSS_TESTS=OFF also keeps GoogleTest out of the build. Debian's
-# hardening flags (as dpkg-buildflags gives them with hardening=+all): stack protector, fortified
-# libc calls, read-only relocations bound at start.
+# The package needs no tests; EMBOSS_TESTS=OFF also keeps GoogleTest out of the build.
+# release-flags.cmake: Release, /usr, Debian's hardening flags.
 # shellcheck disable=SC2086
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr -DEMBOSS_TESTS=OFF \
-  -DCMAKE_C_FLAGS="-fstack-protector-strong -D_FORTIFY_SOURCE=2" \
-  -DCMAKE_CXX_FLAGS="-fstack-protector-strong -D_FORTIFY_SOURCE=2" \
-  -DCMAKE_EXE_LINKER_FLAGS="-Wl,-z,relro -Wl,-z,now" \
+cmake -C platform/debian/release-flags.cmake -S . -B "$build" -G Ninja -DEMBOSS_TESTS=OFF \
   "${launcher[@]}" ${EMBOSS_CMAKE_ARGS:-} >&2
 cmake --build "$build" -j "${EMBOSS_JOBS:-$(nproc)}" >&2
 rm -f "$build"/package/emboss_*.deb
