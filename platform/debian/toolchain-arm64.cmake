@@ -10,7 +10,11 @@ set(CMAKE_CXX_COMPILER ${EMBOSS_TRIPLET}-g++)
 set(CMAKE_STRIP ${EMBOSS_TRIPLET}-strip CACHE FILEPATH "")
 set(CMAKE_OBJCOPY ${EMBOSS_TRIPLET}-objcopy CACHE FILEPATH "")
 # GCC's notes that passing some structs changed ABI in GCC 10.1: everything here is built by GCC 12.
-string(APPEND CMAKE_CXX_FLAGS " -Wno-psabi")  # after the cache, which release-flags.cmake sets
+# Appended after the cache (which release-flags.cmake sets), once: CMake reads this file twice on
+# the first configure and once on later ones, and changed flags would rebuild everything.
+if(NOT CMAKE_CXX_FLAGS MATCHES "-Wno-psabi")
+  string(APPEND CMAKE_CXX_FLAGS " -Wno-psabi")
+endif()
 
 # Headers and libraries of the board from the multiarch folders; programs (pkg-config, git) from
 # here, pkg-config looking only at the arm64 .pc files.
