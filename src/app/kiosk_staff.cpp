@@ -1,0 +1,143 @@
+// The kiosk's staff screen: its menu (resume, export, reset, capture) and its diagnostics lines.
+#include <cmath>
+
+#include "app/kiosk_app.h"
+#include "app/kiosk_app_detail.h"
+
+namespace emboss {
+
+namespace fs = std::filesystem;
+using namespace kiosk_detail;
+
+namespace kiosk_detail {
+
+// Splits text at spaces into lines of at most n characters (a longer word is cut).
+std::vector<std::string> wrapWords(const std::string& text, size_t n) {
+  std::vector<std::string> out;
+  std::string line;
+  size_t i = 0;
+  while (i < text.size()) {
+    const size_t sp = text.find(' ', i);
+    std::string word = text.substr(i, sp == std::string::npos ? std::string::npos : sp - i);
+    i = sp == std::string::npos ? text.size() : sp + 1;
+    while (word.size() > n) {
+      if (!line.empty()) out.push_back(line), line.clear();
+      out.push_back(word.substr(0, n));
+      word.erase(0, n);
+    }
+    if (!line.empty() && line.size() + 1 + word.size() > n) out.push_back(line), line.clear();
+    line += (line.empty() ? "" : " ") + word;
+  }
+  if (!line.empty()) out.push_back(line);
+  return out;
+}
+
+}  // namespace kiosk_detail
+
+void KioskApp::staffActivate(size_t index) {
+  const double now = clock_();
+  states_.penTouch(now);  // staff activity
+  switch (index) {
+    case 0:
+      states_.leaveStaff(now);
+      handleEvents(now);
+      break;
+    case 1: {
+      std::optional<SessionStore::Extra> current;
+      std::string json;
+      if (bench_->model().activeCount() > 0) {
+        json = sceneToJson(bench_->scene("Visitor session in progress"), &bench_->model());
+        current = SessionStore::Extra{json, benchShown_ ? &composer_->frame() : nullptr};
+      }
+      sessions_->retryPending();
+      auto r = sessions_->exportAll(config_.exportDir, fileStamp(), current);
+      if (r) {
+        staff_.message = "Exported " + std::to_string(r->files) + " files (" + std::to_string(r->bytes / 1024) +
+                         " KiB) to " + r->folder.string();
+        staff_.messageIsError = false;
+      } else {
+        staff_.message = r.error();
+        staff_.messageIsError = true;
+      }
+      if (log_) log_("staff: " + staff_.message);
+      break;
+    }
+    case 2: {
+      const bool hadVisitor = states_.modeBeforeStaff() != KioskMode::Attract;
+      states_.resetToAttract(now);
+      handleEvents(now);  // saves the visitor's session and restarts attract
+      if (!hadVisitor) {
+        bench_->resetForVisitor(now);
+        startAttract(now, 0, 0.0);
+      }
+      staff_.message = "The exhibit was reset";
+      staff_.messageIsError = false;
+      if (log_) log_("staff: the exhibit was reset");
+      break;
+    }
+    case 3:
+      // Capture a drawing for the bench: back to it (a fresh visitor's sheet when staff mode was
+      // entered from attract mode), and the still is taken there, where its guide will show.
+      if (!camera_) {
+        staff_.message = "No camera: plug in a USB camera (capture drawing is off until then)";
+        staff_.messageIsError = true;
+        if (log_) log_("staff: capture: no camera");
+        break;
+      }
+      states_.leaveStaff(now);
+      handleEvents(now);
+      if (states_.mode() == KioskMode::Attract) {
+        states_.penTouch(now);
+        handleEvents(now);
+      }
+      startCapture(now);
+      break;
+    default: break;
+  }
+}
+
+void KioskApp::updateStaffView(double now) {
+  staff_.menu.assign(std::begin(kStaffMenu), std::end(kStaffMenu));
+  auto& L = staff_.lines;
+  L.clear();
+  L.push_back("Display: " + display_->name() + " " + std::to_string(display_->width()) + "x" + std::to_string(display_->height()));
+  L.push_back("Pen: " + (pen_ ? pen_->name() : std::string("none")));
+  std::string b;
+  for (auto* s : buttons_) b += (b.empty() ? "" : ", ") + s->name();
+  L.push_back("Buttons: " + (b.empty() ? std::string("none") : b));
+  L.push_back("Camera: " + (camera_ ? (capture_.phase == CapturePhase::Running ? std::string("taking a still") : camera_->name())
+                                    : std::string("none (capture drawing is off)")));
+  for (const auto& [k, v] : deviceNotes_) L.push_back(k + ": " + v);
+  std::string rates;
+  for (KioskMode m : {KioskMode::Attract, KioskMode::Visitor})
+    if (fps(m).seconds() > 0.5) rates += (rates.empty() ? "" : ", ") + std::string(kioskModeName(m)) + fmt(" %.1f fps", fps(m).meanFps());
+  L.push_back("Frame rate: " + (rates.empty() ? std::string("not measured yet") : rates));
+  if (latency_.count())
+    L.push_back(fmt("Stroke to screen: mean %.0f ms", latency_.meanMs()) + fmt(", 95%% %.0f ms", latency_.percentileMs(95)) +
+                " (" + std::to_string(latency_.count()) + " updates)");
+  else
+    L.push_back("Stroke to screen: no strokes yet");
+  const auto& c = composer_->counters();
+  L.push_back("Tracing: " + std::to_string(c.dirtyRects) + " dirty updates, " + std::to_string(c.previews) + " previews, " +
+              std::to_string(c.bands) + " bands");
+  L.push_back("Sessions: " + std::to_string(sessions_->list().size()) + " saved, " + std::to_string(sessions_->pendingCount()) +
+              " waiting to be written");
+  L.push_back("Sessions folder: " + sessions_->dir().string());
+  std::error_code ec;
+  const auto sp = fs::space(sessions_->dir(), ec);
+  if (!ec) L.push_back(fmt("Free space for sessions: %.0f MiB", sp.available / 1048576.0));
+  L.push_back("Export folder: " + config_.exportDir.string() + (fs::is_directory(config_.exportDir, ec) ? "" : " (not there)"));
+  const int up = static_cast<int>(now - started_);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "Up %d:%02d:%02d", up / 3600, up / 60 % 60, up % 60);
+  L.push_back(buf);
+  // Long lines (a tablet's reason, a deep folder) are wrapped to fit beside the menu.
+  std::vector<std::string> wrapped;
+  for (const auto& line : L) {
+    const auto parts = wrapWords(line, kStaffLineChars);
+    for (size_t k = 0; k < parts.size(); ++k) wrapped.push_back(k ? "  " + parts[k] : parts[k]);
+  }
+  L = std::move(wrapped);
+}
+
+}  // namespace emboss
