@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -40,7 +41,30 @@ namespace {
 volatile sig_atomic_t gStop = 0;
 void onSignal(int) { gStop = 1; }
 
-void logLine(const std::string& line) { std::fprintf(stderr, "emboss-kiosk: %s\n", line.c_str()); }
+// Log lines may start with a syslog priority, "<7>" (debug) .. "<3>" (error); none is info (6).
+// Under systemd (JOURNAL_STREAM set) the prefix is kept, so the journal files each line at its
+// priority; on a terminal it is dropped. Lines above --log-level are not written.
+int gLogLevel = 6;
+bool gOnJournal = false;
+
+void logLine(const std::string& line) {
+  int priority = 6;
+  std::string_view text(line);
+  if (text.size() >= 3 && text[0] == '<' && text[1] >= '0' && text[1] <= '7' && text[2] == '>') {
+    priority = text[1] - '0';
+    text.remove_prefix(3);
+  }
+  if (priority > gLogLevel) return;
+  if (gOnJournal) std::fprintf(stderr, "<%d>%.*s\n", priority, int(text.size()), text.data());
+  else std::fprintf(stderr, "emboss-kiosk: %.*s\n", int(text.size()), text.data());
+}
+
+int logLevelByName(const std::string& name) {
+  if (name == "error") return 3;
+  if (name == "warn" || name == "warning") return 4;
+  if (name == "debug") return 7;
+  return 6;
+}
 
 fs::path defaultSessionsDir() {
   if (const char* s = std::getenv("STATE_DIRECTORY"); s && *s) {
@@ -105,6 +129,9 @@ int main(int argc, char** argv) {
   cli.add_option("--sessions-dir", sessionsDir, "Where visitors' sessions are saved");
   cli.add_option("--pieces", piecesDir, "The folder of attract pieces (*.json)");
   cli.add_option("--export-dir", exportDir, "Where staff export sessions to (a USB stick's mount point)");
+  std::string logLevel = "info";
+  cli.add_option("--log-level", logLevel, "error | warn | info | debug (debug: every stroke made durable)")
+      ->check(CLI::IsMember({"error", "warn", "info", "debug"}));
   cli.add_option("--threads", threads, "Render threads (0: one per core)")->check(CLI::Range(0, 256));
   std::string attractStart;
   cli.add_option("--attract-start", attractStart, "INDEX:FRACTION: the first attract piece and how far along it starts")
@@ -117,6 +144,8 @@ int main(int argc, char** argv) {
     return cli.exit(e) == 0 ? 0 : 2;
   }
   if (!writePiecesDir.empty()) return writePieces(writePiecesDir);
+  gLogLevel = logLevelByName(logLevel);
+  gOnJournal = std::getenv("JOURNAL_STREAM") != nullptr;
 
   try {
     // ---- configuration: the file, then the command line

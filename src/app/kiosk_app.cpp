@@ -43,6 +43,7 @@ KioskApp::KioskApp(KioskConfig config, std::vector<AttractPiece> pieces, Display
   bench_ = std::make_unique<Workbench>(setup);
   attract_ = std::make_unique<AttractPlayer>(std::move(pieces), w, h, config_.attractSpeed);
   sessions_ = std::make_unique<SessionStore>(config_.sessionsDir, log_);
+  journal_ = std::make_unique<SessionJournal>(config_.sessionsDir, log_);
   // The bare sheet of the bench, traced once now: a visitor's first touch then shows at once.
   {
     std::vector<Rect> ignored;
@@ -53,6 +54,8 @@ KioskApp::KioskApp(KioskConfig config, std::vector<AttractPiece> pieces, Display
   const double now = clock_();
   started_ = lastStep_ = now;
   startAttract(now, attract_->empty() ? 0 : start.attractPiece % attract_->size(), start.attractDone);
+  pruneSessions(now);
+  restoreSession(now);
   if (start.staff) {
     states_.enterStaff(now);
     handleEvents(now);
@@ -280,6 +283,13 @@ void KioskApp::handlePen(const PenSample& s, double arrival, double now) {
 void KioskApp::saveSession(const std::string& why) {
   bench_->finishStroke();  // a stroke in progress is part of the session
   lastCommitted_ = bench_->committed();  // (not a pen event's latency: the stroke ends here)
+  journalSync();
+  if (journalOpen_) {
+    journal_->end();
+    journalOpen_ = false;
+    journaledIds_.clear();
+    journalState_ = {};
+  }
   if (bench_->model().activeCount() == 0) return;
   // The picture: the bench as the visitor last saw it, traced to the end.
   ViewChanges ch = bench_->takeChanges();
@@ -383,6 +393,9 @@ bool KioskApp::step() {
   }
   states_.tick(now);
   handleEvents(now);
+  journalSync();
+  journalReport();
+  if (now - lastPrune_ > 3600.0) pruneSessions(now);
   pollCapture(now);
   checkCamera(now);
   if (!capture_.message.empty() && now >= capture_.messageUntil) {

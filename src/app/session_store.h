@@ -33,6 +33,9 @@ class SessionStore {
   size_t pendingCount() const { return pending_.size(); }
   size_t savedCount() const { return saved_; }
 
+  // Deletes saved sessions (scene file and picture) written before `before` (Unix seconds), then
+  // the oldest until their files take at most `maxBytes`. Returns how many were deleted.
+  size_t prune(double before, std::uintmax_t maxBytes);
   // Every saved session's scene file, oldest first.
   std::vector<std::filesystem::path> list() const;
 
