@@ -31,6 +31,7 @@
 #include "pen_probe.h"
 #include "pen_replay.h"
 #include "pieces/pieces.h"
+#include "staff_socket.h"
 #include "system_notify.h"
 
 namespace fs = std::filesystem;
@@ -129,6 +130,8 @@ int main(int argc, char** argv) {
   cli.add_option("--sessions-dir", sessionsDir, "Where visitors' sessions are saved");
   cli.add_option("--pieces", piecesDir, "The folder of attract pieces (*.json)");
   cli.add_option("--export-dir", exportDir, "Where staff export sessions to (a USB stick's mount point)");
+  std::string staffSocketPath;
+  cli.add_option("--staff-socket", staffSocketPath, "The staff socket embossctl talks to (default $RUNTIME_DIRECTORY/staff.sock; none: off)");
   std::string logLevel = "info";
   cli.add_option("--log-level", logLevel, "error | warn | info | debug (debug: every stroke made durable)")
       ->check(CLI::IsMember({"error", "warn", "info", "debug"}));
@@ -334,7 +337,18 @@ int main(int argc, char** argv) {
     };
     if (wantCamera) openCamera();
 
+    // The staff socket (embossctl): answered on the main loop; an export runs on a thread of its own.
+    std::unique_ptr<StaffSocket> staffSocket;
+    if (staffSocketPath != "none") {
+      if (auto r = StaffSocket::listen(staffSocketPath.empty() ? StaffSocket::defaultPath() : staffSocketPath)) {
+        staffSocket = std::move(*r);
+        logLine("staff: embossctl socket " + staffSocket->path());
+      } else {
+        logLine("<4>" + r.error() + "; embossctl cannot reach this kiosk");
+      }
+    }
     notifier->ready(attractOnly ? "attract mode only" : "attract mode");
+    std::string lastStatus;
     const double t0 = monotonicSeconds();
     double lastProbe = t0, lastDisplayTry = t0, lastCameraProbe = t0, lastGpioProbe = t0;
     std::vector<X11Event> xev;
@@ -356,8 +370,15 @@ int main(int argc, char** argv) {
         if (closed) break;
       }
       if (!app.step()) break;
+      if (staffSocket)
+        staffSocket->poll([&](const std::string& line) { return app.staffCommand(line); }, [&] { return app.staffPoll(); });
       const double now = monotonicSeconds();
       notifier->alive(now);
+      // STATUS= in systemctl status: what the kiosk is doing now.
+      if (std::string st = app.statusLine(); st != lastStatus) {
+        notifier->status(st);
+        lastStatus = std::move(st);
+      }
       if (runFor > 0 && now - t0 >= runFor) break;
       if (fast && (recordingFailed || app.feedDone())) break;
       // A lost tablet: look for one again every second (the mouse stands in meanwhile), so a replugged

@@ -120,6 +120,12 @@ class KioskApp {
   size_t presents() const { return presents_; }
   // Staff mode's last message (export result, reset).
   const std::string& staffMessage() const { return staff_.message; }
+  // A staff request (src/staff/staff_protocol.h) from embossctl: the answer, one JSON line, or
+  // nothing yet (an export runs on a thread of its own; ask staffPoll() on later steps).
+  std::optional<std::string> staffCommand(const std::string& line);
+  std::optional<std::string> staffPoll();
+  // What the kiosk is doing, for the service manager's STATUS= (attract, visitor, staff, exporting...).
+  std::string statusLine() const;
   // Runs a staff menu entry by index (0 resume, 1 export, 2 reset, 3 capture a drawing), as a tap
   // or press would.
   void staffActivate(size_t index);
@@ -198,6 +204,7 @@ class KioskApp {
   size_t presents_ = 0;
   bool firstPresent_ = true;
   std::optional<std::string> lastSessionJson_;
+  std::future<std::string> staffExport_;     // an export under way (embossctl), its answer
   std::unique_ptr<SessionJournal> journal_;
   bool journalOpen_ = false;                 // the bench's session has been begun in the journal
   std::int64_t journalId_ = 0;

@@ -3,6 +3,11 @@
 
 #include "app/kiosk_app.h"
 #include "app/kiosk_app_detail.h"
+#include "staff/staff_protocol.h"
+
+#include <chrono>
+
+#include <nlohmann/json.hpp>
 
 namespace emboss {
 
@@ -138,6 +143,115 @@ void KioskApp::updateStaffView(double now) {
     for (size_t k = 0; k < parts.size(); ++k) wrapped.push_back(k ? "  " + parts[k] : parts[k]);
   }
   L = std::move(wrapped);
+}
+
+namespace {
+
+double unixNow() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+std::string answer(nlohmann::json j) {
+  if (!j.contains("ok")) j["ok"] = true;
+  return j.dump();
+}
+
+std::string refusal(const std::string& message) { return nlohmann::json{{"ok", false}, {"error", message}}.dump(); }
+
+}  // namespace
+
+std::optional<std::string> KioskApp::staffCommand(const std::string& line) {
+  using nlohmann::json;
+  auto req = parseStaffRequest(line);
+  if (!req) return refusal(req.error());
+  const double now = clock_();
+  switch (req->command) {
+    case StaffRequest::Command::Status: {
+      json j;
+      j["state"] = kioskModeName(states_.mode());
+      j["devices"] = deviceNotes_;
+      json fps = json::object();
+      for (KioskMode m : {KioskMode::Attract, KioskMode::Visitor, KioskMode::StillThere, KioskMode::Staff})
+        if (this->fps(m).seconds() > 0.5) fps[kioskModeName(m)] = this->fps(m).meanFps();
+      j["fps"] = fps;
+      j["latency_ms"] = {{"count", latency_.count()}, {"mean", latency_.meanMs()}, {"p95", latency_.percentileMs(95)}};
+      j["sessions"] = {{"saved", sessions_->list().size()}, {"waiting", sessions_->pendingCount()},
+                       {"folder", sessions_->dir().string()},
+                       {"journal", journal() ? (journal_->lastError().empty() ? "ok" : "cannot write: " + journal_->lastError()) : "off"},
+                       {"journal_queued", journal() ? journal_->queued() : 0}};
+      std::error_code ec;
+      const auto sp = std::filesystem::space(sessions_->dir(), ec);
+      if (!ec) j["disk"] = {{"free_mib", double(sp.available) / 1048576.0}, {"size_mib", double(sp.capacity) / 1048576.0}};
+      j["operations_on_bench"] = bench_->model().activeCount();
+      j["exporting"] = staffExport_.valid();
+      return answer(j);
+    }
+    case StaffRequest::Command::Sessions: {
+      json list = json::array();
+      if (journal())
+        for (const auto& s : journal_->list())
+          list.push_back({{"id", s.id}, {"started", s.started}, {"ended", s.ended}, {"operations", s.operations}});
+      json files = json::array();
+      for (const auto& f : sessions_->list()) files.push_back(f.filename().string());
+      return answer({{"journal", list}, {"files", files}});
+    }
+    case StaffRequest::Command::Reset: {
+      const bool hadVisitor = states_.mode() == KioskMode::Visitor || states_.mode() == KioskMode::StillThere ||
+                              (states_.mode() == KioskMode::Staff && states_.modeBeforeStaff() != KioskMode::Attract);
+      states_.resetToAttract(now);
+      handleEvents(now);  // saves the visitor's session and restarts attract
+      if (log_) log_(std::string("staff: the exhibit was reset from embossctl") + (hadVisitor ? " (the visitor's session was saved)" : ""));
+      return answer({{"reset", true}, {"session_ended", hadVisitor}});
+    }
+    case StaffRequest::Command::Wipe: {
+      const double before = unixNow() - req->olderThanDays * 86400.0;
+      size_t n = journal() ? journal_->prune(before, ~std::uintmax_t(0)) : 0;
+      n += sessions_->prune(before, ~std::uintmax_t(0));
+      if (log_) log_("staff: wiped " + std::to_string(n) + " sessions finished more than " + fmt("%g", req->olderThanDays) + " days ago");
+      return answer({{"wiped", n}});
+    }
+    case StaffRequest::Command::Export: {
+      if (staffExport_.valid()) return refusal("an export is already under way");
+      if (Status s = checkExportDestination(req->dest, req->allowAnyDir); !s) return refusal(s.error());
+      sessions_->retryPending();
+      // What the thread needs, copied: it never touches the bench, the composer or the store's state.
+      std::optional<std::string> json;
+      std::optional<Image> picture;
+      if (bench_->model().activeCount() > 0) {
+        json = sceneToJson(bench_->scene("Visitor session in progress"), &bench_->model());
+        if (benchShown_) picture = composer_->frame();
+      }
+      const SessionStore store(sessions_->dir(), {});
+      const StaffRequest r = *req;
+      const std::string stamp = fileStamp();
+      if (log_) log_("staff: exporting to " + r.dest.string());
+      overlayChanged_ = true;
+      staffExport_ = std::async(std::launch::async, [store, r, stamp, json, picture]() {
+        std::optional<SessionStore::Extra> current;
+        if (json) current = SessionStore::Extra{*json, picture ? &*picture : nullptr};
+        auto res = store.exportAll(r.dest, sanitizeName(stamp), current, {}, r.sinceUnix);
+        if (!res) return refusal(res.error());
+        return answer({{"folder", res->folder.string()}, {"files", res->files}, {"bytes", res->bytes}});
+      });
+      return std::nullopt;
+    }
+  }
+  return refusal("unknown command");
+}
+
+std::string KioskApp::statusLine() const {
+  std::string s = kioskModeName(states_.mode());
+  if (s == "attract") s += " mode";
+  if (staffExport_.valid()) s += ", exporting";
+  if (displayLost_) s += ", no display";
+  if (journal_ && !journal_->ok()) s += ", sessions not journalled";
+  else if (journal_ && !journal_->lastError().empty()) s += ", cannot write sessions: " + journal_->lastError();
+  return s;
+}
+
+std::optional<std::string> KioskApp::staffPoll() {
+  if (!staffExport_.valid() || staffExport_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return std::nullopt;
+  std::string a = staffExport_.get();
+  if (log_) log_("staff: export done: " + a);
+  return a;
 }
 
 }  // namespace emboss

@@ -105,7 +105,7 @@ std::vector<fs::path> SessionStore::list() const {
 
 Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& target, const std::string& stamp,
                                                             const std::optional<Extra>& current,
-                                                            const SpaceProbe& spaceIn) const {
+                                                            const SpaceProbe& spaceIn, double sinceUnix) const {
   std::error_code ec;
   if (!fs::is_directory(target, ec))
     return fail("export: '" + target.string() + "' is not a folder (is the USB stick in?)");
@@ -113,6 +113,8 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
   std::vector<fs::path> files;
   std::uintmax_t need = current ? current->json.size() + (current->picture ? current->picture->rgba.size() : 0) : 0;
   for (const auto& scene : list()) {
+    struct stat st {};
+    if (sinceUnix > 0 && ::stat(scene.c_str(), &st) == 0 && double(st.st_mtime) < sinceUnix) continue;
     files.push_back(scene);
     fs::path png = scene;
     png.replace_extension(".png");
@@ -151,6 +153,8 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
     sum.files += current->picture ? 2 : 1;
     sum.bytes += current->json.size();
   }
+  // The export's folder itself is a new name in the stick's root: make that durable too.
+  if (Status s = syncDirectory(target); !s) return fail("export: " + s.error());
   return sum;
 }
 

@@ -51,9 +51,10 @@ class SessionStore {
   // Copies every saved session (scene files and pictures), plus `current`, into a new folder
   // TARGET/emboss-sessions-STAMP. Checks the free space first; fails with a message that says how
   // much is needed and free, or which file could not be written. The sessions themselves are
-  // never touched.
+  // never touched. With `sinceUnix`, only sessions saved since then. Every file and folder written
+  // is fsynced before the export counts as done.
   Result<ExportSummary> exportAll(const std::filesystem::path& target, const std::string& stamp,
-                                  const std::optional<Extra>& current, const SpaceProbe& space = {}) const;
+                                  const std::optional<Extra>& current, const SpaceProbe& space = {}, double sinceUnix = 0) const;
 
  private:
   struct Pending {
