@@ -128,6 +128,11 @@ void KioskApp::updateStaffView(double now) {
   L.push_back("Sessions: " + std::to_string(sessions_->list().size()) + " saved, " + std::to_string(sessions_->pendingCount()) +
               " waiting to be written");
   L.push_back("Sessions folder: " + sessions_->dir().string());
+  // The journal: a full or read-only disk shows here (the kiosk goes on; what is made waits in memory).
+  if (!journal_ || !journal_->ok()) L.push_back("Journal: OFF - sessions are only saved when they end");
+  else if (const std::string e = journal_->lastError(); !e.empty())
+    L.push_back("Journal: CANNOT WRITE (" + e + "); " + std::to_string(journal_->queued()) + " changes wait in memory");
+  else L.push_back("Journal: every stroke on the disk");
   std::error_code ec;
   const auto sp = fs::space(sessions_->dir(), ec);
   if (!ec) L.push_back(fmt("Free space for sessions: %.0f MiB", sp.available / 1048576.0));
