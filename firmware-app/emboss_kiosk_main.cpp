@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -30,6 +31,7 @@
 #include "pen_probe.h"
 #include "pen_replay.h"
 #include "pieces/pieces.h"
+#include "staff_socket.h"
 #include "system_notify.h"
 #include "version.h"
 
@@ -44,7 +46,30 @@ void onSignal(int) { gStop = 1; }
 // Where the package installs the configuration (the unit passes it with --config).
 constexpr const char* kDefaultConfig = "/etc/emboss/kiosk.conf";
 
-void logLine(const std::string& line) { std::fprintf(stderr, "emboss-kiosk: %s\n", line.c_str()); }
+// Log lines may start with a syslog priority, "<7>" (debug) .. "<3>" (error); none is info (6).
+// Under systemd (JOURNAL_STREAM set) the prefix is kept, so the journal files each line at its
+// priority; on a terminal it is dropped. Lines above --log-level are not written.
+int gLogLevel = 6;
+bool gOnJournal = false;
+
+void logLine(const std::string& line) {
+  int priority = 6;
+  std::string_view text(line);
+  if (text.size() >= 3 && text[0] == '<' && text[1] >= '0' && text[1] <= '7' && text[2] == '>') {
+    priority = text[1] - '0';
+    text.remove_prefix(3);
+  }
+  if (priority > gLogLevel) return;
+  if (gOnJournal) std::fprintf(stderr, "<%d>%.*s\n", priority, int(text.size()), text.data());
+  else std::fprintf(stderr, "emboss-kiosk: %.*s\n", int(text.size()), text.data());
+}
+
+int logLevelByName(const std::string& name) {
+  if (name == "error") return 3;
+  if (name == "warn" || name == "warning") return 4;
+  if (name == "debug") return 7;
+  return 6;
+}
 
 fs::path defaultSessionsDir() {
   if (const char* s = std::getenv("STATE_DIRECTORY"); s && *s) {
@@ -116,6 +141,11 @@ int main(int argc, char** argv) {
   cli.add_option("--sessions-dir", sessionsDir, "Where visitors' sessions are saved");
   cli.add_option("--pieces", piecesDir, "The folder of attract pieces (*.json)");
   cli.add_option("--export-dir", exportDir, "Where staff export sessions to (a USB stick's mount point)");
+  std::string staffSocketPath;
+  cli.add_option("--staff-socket", staffSocketPath, "The staff socket embossctl talks to (default $RUNTIME_DIRECTORY/staff.sock; none: off)");
+  std::string logLevel = "info";
+  cli.add_option("--log-level", logLevel, "error | warn | info | debug (debug: every stroke made durable)")
+      ->check(CLI::IsMember({"error", "warn", "info", "debug"}));
   cli.add_option("--threads", threads, "Render threads (0: one per core)")->check(CLI::Range(0, 256));
   std::string attractStart;
   cli.add_option("--attract-start", attractStart, "INDEX:FRACTION: the first attract piece and how far along it starts")
@@ -139,6 +169,8 @@ int main(int argc, char** argv) {
     std::printf("%s: ok\n", file.c_str());
     return 0;
   }
+  gLogLevel = logLevelByName(logLevel);
+  gOnJournal = std::getenv("JOURNAL_STREAM") != nullptr;
 
   try {
     // ---- configuration: the file, then the command line
@@ -327,7 +359,18 @@ int main(int argc, char** argv) {
     };
     if (wantCamera) openCamera();
 
+    // The staff socket (embossctl): answered on the main loop; an export runs on a thread of its own.
+    std::unique_ptr<StaffSocket> staffSocket;
+    if (staffSocketPath != "none") {
+      if (auto r = StaffSocket::listen(staffSocketPath.empty() ? StaffSocket::defaultPath() : staffSocketPath)) {
+        staffSocket = std::move(*r);
+        logLine("staff: embossctl socket " + staffSocket->path());
+      } else {
+        logLine("<4>" + r.error() + "; embossctl cannot reach this kiosk");
+      }
+    }
     notifier->ready(attractOnly ? "attract mode only" : "attract mode");
+    std::string lastStatus;
     const double t0 = monotonicSeconds();
     double lastProbe = t0, lastDisplayTry = t0, lastCameraProbe = t0, lastGpioProbe = t0;
     std::vector<X11Event> xev;
@@ -349,8 +392,15 @@ int main(int argc, char** argv) {
         if (closed) break;
       }
       if (!app.step()) break;
+      if (staffSocket)
+        staffSocket->poll([&](const std::string& line) { return app.staffCommand(line); }, [&] { return app.staffPoll(); });
       const double now = monotonicSeconds();
       notifier->alive(now);
+      // STATUS= in systemctl status: what the kiosk is doing now.
+      if (std::string st = app.statusLine(); st != lastStatus) {
+        notifier->status(st);
+        lastStatus = std::move(st);
+      }
       if (runFor > 0 && now - t0 >= runFor) break;
       if (fast && (recordingFailed || app.feedDone())) break;
       // A lost tablet: look for one again every second (the mouse stands in meanwhile), so a replugged

@@ -63,7 +63,8 @@ if(HELP2MAN)
   # help2man cannot see (files, exit status, see also) are in platform/debian/man/PROGRAM.h2m.
   foreach(entry "emboss|1|--help-all|render, evaluate and export virtual embossing scenes"
                 "emboss-kiosk|8|--help|the virtual metal embossing exhibit"
-                "emboss-input|1|--help|look at pen tablets: descriptors, recordings, live devices")
+                "emboss-input|1|--help|look at pen tablets: descriptors, recordings, live devices"
+                "embossctl|8|--help|the staff tool of the emboss kiosk: status, sessions, export, reset, wipe")
     string(REPLACE "|" ";" entry "${entry}")
     list(GET entry 0 prog)
     list(GET entry 1 section)

@@ -6,12 +6,14 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/kiosk_app_detail.h"
 #include "app/memory_display.h"
 #include "frep/workpieces.h"
 
 namespace emboss {
 
 namespace fs = std::filesystem;
+using namespace kiosk_detail;
 
 namespace {
 
@@ -19,40 +21,6 @@ constexpr double kFrameSeconds = 1.0 / 60.0;  // one display frame: how much of 
 constexpr double kBudgetMs = 35.0;            // tracing per step beyond the dirty rectangles
 constexpr double kAnimationPeriod = 1.0 / 30.0;
 constexpr double kMaxAttractGap = 0.25;       // a longer step is a stall: attract mode does not catch up
-
-const char* const kStaffMenu[] = {"Back to the exhibit", "Export sessions", "Reset the exhibit", "Capture a drawing"};
-constexpr size_t kStaffItems = 4;
-constexpr double kCameraCheckSeconds = 2.0;  // how often an idle camera is asked whether it is still there
-constexpr double kCaptureNoteSeconds = 8.0;  // how long a capture's outcome stays on the screen
-
-constexpr size_t kStaffLineChars = 56;  // what fits beside the staff menu at 1280x800
-
-// Splits text at spaces into lines of at most n characters (a longer word is cut).
-std::vector<std::string> wrapWords(const std::string& text, size_t n) {
-  std::vector<std::string> out;
-  std::string line;
-  size_t i = 0;
-  while (i < text.size()) {
-    const size_t sp = text.find(' ', i);
-    std::string word = text.substr(i, sp == std::string::npos ? std::string::npos : sp - i);
-    i = sp == std::string::npos ? text.size() : sp + 1;
-    while (word.size() > n) {
-      if (!line.empty()) out.push_back(line), line.clear();
-      out.push_back(word.substr(0, n));
-      word.erase(0, n);
-    }
-    if (!line.empty() && line.size() + 1 + word.size() > n) out.push_back(line), line.clear();
-    line += (line.empty() ? "" : " ") + word;
-  }
-  if (!line.empty()) out.push_back(line);
-  return out;
-}
-
-std::string fmt(const char* f, double a) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, f, a);
-  return buf;
-}
 
 }  // namespace
 
@@ -75,6 +43,7 @@ KioskApp::KioskApp(KioskConfig config, std::vector<AttractPiece> pieces, Display
   bench_ = std::make_unique<Workbench>(setup);
   attract_ = std::make_unique<AttractPlayer>(std::move(pieces), w, h, config_.attractSpeed);
   sessions_ = std::make_unique<SessionStore>(config_.sessionsDir, log_);
+  journal_ = std::make_unique<SessionJournal>(config_.sessionsDir, log_);
   // The bare sheet of the bench, traced once now: a visitor's first touch then shows at once.
   {
     std::vector<Rect> ignored;
@@ -85,6 +54,8 @@ KioskApp::KioskApp(KioskConfig config, std::vector<AttractPiece> pieces, Display
   const double now = clock_();
   started_ = lastStep_ = now;
   startAttract(now, attract_->empty() ? 0 : start.attractPiece % attract_->size(), start.attractDone);
+  pruneSessions(now);
+  restoreSession(now);
   if (start.staff) {
     states_.enterStaff(now);
     handleEvents(now);
@@ -312,6 +283,13 @@ void KioskApp::handlePen(const PenSample& s, double arrival, double now) {
 void KioskApp::saveSession(const std::string& why) {
   bench_->finishStroke();  // a stroke in progress is part of the session
   lastCommitted_ = bench_->committed();  // (not a pen event's latency: the stroke ends here)
+  journalSync();
+  if (journalOpen_) {
+    journal_->end();
+    journalOpen_ = false;
+    journaledIds_.clear();
+    journalState_ = {};
+  }
   if (bench_->model().activeCount() == 0) return;
   // The picture: the bench as the visitor last saw it, traced to the end.
   ViewChanges ch = bench_->takeChanges();
@@ -326,112 +304,6 @@ void KioskApp::saveSession(const std::string& why) {
   if (log_) log_("session: saving (" + why + ")");
   sessions_->save(scene, bench_->model(), &composer_->frame(), stamp);
   changed_.insert(changed_.end(), changed.begin(), changed.end());
-}
-
-void KioskApp::staffActivate(size_t index) {
-  const double now = clock_();
-  states_.penTouch(now);  // staff activity
-  switch (index) {
-    case 0:
-      states_.leaveStaff(now);
-      handleEvents(now);
-      break;
-    case 1: {
-      std::optional<SessionStore::Extra> current;
-      std::string json;
-      if (bench_->model().activeCount() > 0) {
-        json = sceneToJson(bench_->scene("Visitor session in progress"), &bench_->model());
-        current = SessionStore::Extra{json, benchShown_ ? &composer_->frame() : nullptr};
-      }
-      sessions_->retryPending();
-      auto r = sessions_->exportAll(config_.exportDir, fileStamp(), current);
-      if (r) {
-        staff_.message = "Exported " + std::to_string(r->files) + " files (" + std::to_string(r->bytes / 1024) +
-                         " KiB) to " + r->folder.string();
-        staff_.messageIsError = false;
-      } else {
-        staff_.message = r.error();
-        staff_.messageIsError = true;
-      }
-      if (log_) log_("staff: " + staff_.message);
-      break;
-    }
-    case 2: {
-      const bool hadVisitor = states_.modeBeforeStaff() != KioskMode::Attract;
-      states_.resetToAttract(now);
-      handleEvents(now);  // saves the visitor's session and restarts attract
-      if (!hadVisitor) {
-        bench_->resetForVisitor(now);
-        startAttract(now, 0, 0.0);
-      }
-      staff_.message = "The exhibit was reset";
-      staff_.messageIsError = false;
-      if (log_) log_("staff: the exhibit was reset");
-      break;
-    }
-    case 3:
-      // Capture a drawing for the bench: back to it (a fresh visitor's sheet when staff mode was
-      // entered from attract mode), and the still is taken there, where its guide will show.
-      if (!camera_) {
-        staff_.message = "No camera: plug in a USB camera (capture drawing is off until then)";
-        staff_.messageIsError = true;
-        if (log_) log_("staff: capture: no camera");
-        break;
-      }
-      states_.leaveStaff(now);
-      handleEvents(now);
-      if (states_.mode() == KioskMode::Attract) {
-        states_.penTouch(now);
-        handleEvents(now);
-      }
-      startCapture(now);
-      break;
-    default: break;
-  }
-}
-
-void KioskApp::updateStaffView(double now) {
-  staff_.menu.assign(std::begin(kStaffMenu), std::end(kStaffMenu));
-  auto& L = staff_.lines;
-  L.clear();
-  L.push_back("Display: " + display_->name() + " " + std::to_string(display_->width()) + "x" + std::to_string(display_->height()));
-  L.push_back("Pen: " + (pen_ ? pen_->name() : std::string("none")));
-  std::string b;
-  for (auto* s : buttons_) b += (b.empty() ? "" : ", ") + s->name();
-  L.push_back("Buttons: " + (b.empty() ? std::string("none") : b));
-  L.push_back("Camera: " + (camera_ ? (capture_.phase == CapturePhase::Running ? std::string("taking a still") : camera_->name())
-                                    : std::string("none (capture drawing is off)")));
-  for (const auto& [k, v] : deviceNotes_) L.push_back(k + ": " + v);
-  std::string rates;
-  for (KioskMode m : {KioskMode::Attract, KioskMode::Visitor})
-    if (fps(m).seconds() > 0.5) rates += (rates.empty() ? "" : ", ") + std::string(kioskModeName(m)) + fmt(" %.1f fps", fps(m).meanFps());
-  L.push_back("Frame rate: " + (rates.empty() ? std::string("not measured yet") : rates));
-  if (latency_.count())
-    L.push_back(fmt("Stroke to screen: mean %.0f ms", latency_.meanMs()) + fmt(", 95%% %.0f ms", latency_.percentileMs(95)) +
-                " (" + std::to_string(latency_.count()) + " updates)");
-  else
-    L.push_back("Stroke to screen: no strokes yet");
-  const auto& c = composer_->counters();
-  L.push_back("Tracing: " + std::to_string(c.dirtyRects) + " dirty updates, " + std::to_string(c.previews) + " previews, " +
-              std::to_string(c.bands) + " bands");
-  L.push_back("Sessions: " + std::to_string(sessions_->list().size()) + " saved, " + std::to_string(sessions_->pendingCount()) +
-              " waiting to be written");
-  L.push_back("Sessions folder: " + sessions_->dir().string());
-  std::error_code ec;
-  const auto sp = fs::space(sessions_->dir(), ec);
-  if (!ec) L.push_back(fmt("Free space for sessions: %.0f MiB", sp.available / 1048576.0));
-  L.push_back("Export folder: " + config_.exportDir.string() + (fs::is_directory(config_.exportDir, ec) ? "" : " (not there)"));
-  const int up = static_cast<int>(now - started_);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "Up %d:%02d:%02d", up / 3600, up / 60 % 60, up % 60);
-  L.push_back(buf);
-  // Long lines (a tablet's reason, a deep folder) are wrapped to fit beside the menu.
-  std::vector<std::string> wrapped;
-  for (const auto& line : L) {
-    const auto parts = wrapWords(line, kStaffLineChars);
-    for (size_t k = 0; k < parts.size(); ++k) wrapped.push_back(k ? "  " + parts[k] : parts[k]);
-  }
-  L = std::move(wrapped);
 }
 
 Overlay KioskApp::overlay(double now) const {
@@ -464,107 +336,6 @@ Overlay KioskApp::overlay(double now) const {
     }
   }
   return buildOverlay(s);
-}
-
-void KioskApp::captureNote(double now, const std::string& message, bool error) {
-  capture_.message = message;
-  capture_.messageIsError = error;
-  capture_.messageUntil = now + kCaptureNoteSeconds;
-  overlayChanged_ = true;
-}
-
-void KioskApp::startCapture(double now) {
-  if (capture_.phase == CapturePhase::Running) return;
-  if (!camera_) {
-    captureNote(now, "No camera", true);
-    if (log_) log_("capture: no camera (plug in a USB camera; the kiosk looks for one every few seconds)");
-    return;
-  }
-  discardCapture("a new capture");
-  bench_->finishStroke();
-  const Box3 b = bench_->model().workpiecePtr()->bounds();
-  const double plateW = b.x1 - b.x0, plateH = b.y1 - b.y0;
-  CaptureOptions options;
-  options.metal = std::string(bench_->metal().name);
-  CameraSource* camera = camera_;
-  // The still (about 0.2 s of streaming) and the tracing (0.1 to 0.5 s) run on their own thread;
-  // the main loop goes on rendering and polls the result every step.
-  capture_.job = std::async(std::launch::async, [camera, plateW, plateH, options]() -> Result<CaptureResult> {
-    auto photo = camera->capture();
-    if (!photo) return fail(photo.error());
-    return captureDrawing(*photo, plateW, plateH, options);
-  });
-  capture_.phase = CapturePhase::Running;
-  capture_.dropResult = false;
-  capture_.started = now;
-  overlayChanged_ = true;
-  if (log_) log_("capture: taking a still with " + camera->name());
-}
-
-void KioskApp::pollCapture(double now) {
-  if (capture_.phase != CapturePhase::Running || !capture_.job.valid()) return;
-  if (capture_.job.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-  Result<CaptureResult> r = capture_.job.get();
-  capture_.phase = CapturePhase::Idle;
-  overlayChanged_ = true;
-  const double secs = now - capture_.started;
-  if (capture_.dropResult) {
-    if (log_) log_("capture: the result came after the visitor left; dropped");
-    return;
-  }
-  if (!r) {
-    if (log_) log_("capture: " + r.error());
-    // A camera gone is noticed at once rather than at the next check.
-    if (camera_ && !camera_->present()) dropCamera();
-    const bool noSheet = r.error().find("no sheet") != std::string::npos;
-    const bool noDrawing = r.error().find("no drawing") != std::string::npos;
-    captureNote(now, noSheet ? "No sheet of paper found: hold it flat under the camera" :
-                noDrawing ? "No drawing found on the sheet" : "The camera did not give a picture", true);
-    return;
-  }
-  if (r->operations.empty()) {
-    captureNote(now, "No drawing found on the sheet", true);
-    if (log_) log_("capture: the drawing gave no lines to emboss");
-    return;
-  }
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "capture: %zu lines, %zu operations, traced in %.1f s; offered (capture again: emboss, undo: put away)",
-                r->polylines.size(), r->operations.size(), secs);
-  if (log_) log_(buf);
-  capture_.offer = std::move(*r);
-  capture_.phase = CapturePhase::Offer;
-  captureNote(now, "Your drawing: press capture again to emboss it, undo to put it away", false);
-}
-
-void KioskApp::acceptCapture(double now) {
-  if (!capture_.offer) return;
-  const size_t n = bench_->addStroke(capture_.offer->operations);
-  lastCommitted_ = bench_->committed();  // not a pen event's latency
-  capture_.offer.reset();
-  capture_.phase = CapturePhase::Idle;
-  captureNote(now, "Embossed: undo takes it back", false);
-  if (log_) log_("capture: the drawing was embossed (" + std::to_string(n) + " operations, one undo takes them back)");
-}
-
-void KioskApp::discardCapture(const std::string& why) {
-  if (capture_.phase == CapturePhase::Running) capture_.dropResult = true;
-  if (!capture_.offer) return;
-  capture_.offer.reset();
-  capture_.phase = CapturePhase::Idle;
-  overlayChanged_ = true;
-  if (log_) log_("capture: the drawing on offer was put away (" + why + ")");
-}
-
-void KioskApp::checkCamera(double now) {
-  if (!camera_ || capture_.phase == CapturePhase::Running || now - lastCameraCheck_ < kCameraCheckSeconds) return;
-  lastCameraCheck_ = now;
-  if (!camera_->present()) dropCamera();
-}
-
-void KioskApp::dropCamera() {
-  if (log_) log_("camera: '" + camera_->name() + "' is gone; capture drawing is off until a camera is back");
-  camera_ = nullptr;
-  cameraLost_ = true;
 }
 
 void KioskApp::present(double now, std::vector<Rect>& changed, bool modelChanged) {
@@ -622,6 +393,9 @@ bool KioskApp::step() {
   }
   states_.tick(now);
   handleEvents(now);
+  journalSync();
+  journalReport();
+  if (now - lastPrune_ > 3600.0) pruneSessions(now);
   pollCapture(now);
   checkCamera(now);
   if (!capture_.message.empty() && now >= capture_.messageUntil) {

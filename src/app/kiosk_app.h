@@ -28,6 +28,7 @@
 #include "devices/camera.h"
 #include "devices/display.h"
 #include "devices/pen.h"
+#include "store/session_journal.h"
 
 namespace emboss {
 
@@ -111,10 +112,20 @@ class KioskApp {
   const LatencyMeter& latency() const { return latency_; }
   const FpsMeter& fps(KioskMode m) const;
   const SessionStore& sessions() const { return *sessions_; }
+  // The journal of the session in progress (docs/sessions.md); null when it could not be opened.
+  SessionJournal* journal() const { return journal_ && journal_->ok() ? journal_.get() : nullptr; }
+  // Waits (at most `seconds`) until every operation made so far is durable. True when it is.
+  bool journalFlush(double seconds);
   const FrameComposer& composer() const { return *composer_; }
   size_t presents() const { return presents_; }
   // Staff mode's last message (export result, reset).
   const std::string& staffMessage() const { return staff_.message; }
+  // A staff request (src/staff/staff_protocol.h) from embossctl: the answer, one JSON line, or
+  // nothing yet (an export runs on a thread of its own; ask staffPoll() on later steps).
+  std::optional<std::string> staffCommand(const std::string& line);
+  std::optional<std::string> staffPoll();
+  // What the kiosk is doing, for the service manager's STATUS= (attract, visitor, staff, exporting...).
+  std::string statusLine() const;
   // Runs a staff menu entry by index (0 resume, 1 export, 2 reset, 3 capture a drawing), as a tap
   // or press would.
   void staffActivate(size_t index);
@@ -129,6 +140,14 @@ class KioskApp {
   void handlePen(const PenSample& s, double arrival, double now);
   void handleEvents(double now);
   void saveSession(const std::string& why);
+  // The journal learns what changed on the bench since the last call (operations, undo, metal).
+  void journalSync();
+  // Logs the strokes the journal made durable since the last call.
+  void journalReport();
+  // At start: an unfinished session in the journal is brought back, or closed when too old.
+  void restoreSession(double now);
+  // Drops sessions beyond the retention age and size (at start, then every hour).
+  void pruneSessions(double now);
   void startAttract(double now, size_t index, double done);
   void updateStaffView(double now);
   void present(double now, std::vector<Rect>& changed, bool modelChanged);
@@ -185,6 +204,16 @@ class KioskApp {
   size_t presents_ = 0;
   bool firstPresent_ = true;
   std::optional<std::string> lastSessionJson_;
+  std::future<std::string> staffExport_;     // an export under way (embossctl), its answer
+  std::unique_ptr<SessionJournal> journal_;
+  bool journalOpen_ = false;                 // the bench's session has been begun in the journal
+  std::int64_t journalId_ = 0;
+  std::vector<std::uint64_t> journaledIds_;  // the model's operation ids as the journal has them
+  std::uint64_t journalRev_ = ~std::uint64_t(0);
+  JournalState journalState_;
+  std::int64_t durableSession_ = 0;
+  std::uint64_t durableLogged_ = 0;
+  double lastPrune_ = 0;
   LatencyMeter latency_;
   std::map<KioskMode, FpsMeter> fps_;
   size_t pictureUpdates_ = 0;

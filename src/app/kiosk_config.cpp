@@ -119,6 +119,10 @@ KioskConfig parseLines(const std::string& text, const std::string& name, KioskCo
       c.sessionsDir = v;
     } else if (key == "export_dir") {
       c.exportDir = v;
+    } else if (key == "retention_days") {
+      positive(key, v, c.retentionDays);
+    } else if (key == "retention_mb") {
+      positive(key, v, c.retentionMb);
     } else if (key == "idle_seconds") {
       positive(key, v, c.idleSeconds);
     } else if (key == "countdown_seconds") {

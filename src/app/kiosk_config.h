@@ -24,6 +24,8 @@ struct KioskConfig {
   std::filesystem::path piecesDir;                                  // empty: searched (see docs/kiosk.md)
   std::filesystem::path sessionsDir;  // empty: $STATE_DIRECTORY/sessions, else ~/.local/state/emboss-kiosk/sessions
   std::filesystem::path exportDir = "/media/emboss-export";         // staff export target (a USB stick)
+  double retentionDays = 365;     // finished sessions older than this are deleted (oldest first)
+  double retentionMb = 4096;      // ... and beyond this much space, oldest first (a year on a 16 GB card)
   double idleSeconds = 60;        // a visitor who does nothing this long is asked "still there?"
   double countdownSeconds = 15;   // ... and this long later the session is saved and attract resumes
   double staffIdleSeconds = 300;  // staff mode closes itself after this long untouched

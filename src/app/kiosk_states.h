@@ -53,6 +53,12 @@ class KioskStates {
   void leaveStaff(double now);
   // Staff "reset": the visitor's session (if any) ends, attract resumes.
   void resetToAttract(double now);
+  // A visitor's session brought back at start (the kiosk stopped in the middle of it): visitor
+  // mode at once, without the VisitorArrived event that would give them a fresh sheet.
+  void resumeVisitor(double now) {
+    activity(now);
+    set(KioskMode::Visitor, now);
+  }
 
   // Seconds left on the "still there?" countdown (0 outside it).
   double countdownLeft(double now) const;

@@ -1,6 +1,10 @@
 // Saving and exporting visitors' sessions, atomically and without ever losing one.
 #include "app/session_store.h"
 
+#include "util/durable_file.h"
+
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -29,13 +33,7 @@ Status writePngAtomically(const Image& image, const fs::path& path) {
     fs::remove(tmp, ec);
     return s;
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    return fail("cannot write '" + path.string() + "': " + ec.message());
-  }
-  return Ok{};
+  return commitFile(tmp, path);
 }
 
 SessionStore::SessionStore(fs::path dir, KioskLog log) : dir_(std::move(dir)), log_(std::move(log)) {}
@@ -107,7 +105,7 @@ std::vector<fs::path> SessionStore::list() const {
 
 Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& target, const std::string& stamp,
                                                             const std::optional<Extra>& current,
-                                                            const SpaceProbe& spaceIn) const {
+                                                            const SpaceProbe& spaceIn, double sinceUnix) const {
   std::error_code ec;
   if (!fs::is_directory(target, ec))
     return fail("export: '" + target.string() + "' is not a folder (is the USB stick in?)");
@@ -115,6 +113,8 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
   std::vector<fs::path> files;
   std::uintmax_t need = current ? current->json.size() + (current->picture ? current->picture->rgba.size() : 0) : 0;
   for (const auto& scene : list()) {
+    struct stat st {};
+    if (sinceUnix > 0 && ::stat(scene.c_str(), &st) == 0 && double(st.st_mtime) < sinceUnix) continue;
     files.push_back(scene);
     fs::path png = scene;
     png.replace_extension(".png");
@@ -153,7 +153,36 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
     sum.files += current->picture ? 2 : 1;
     sum.bytes += current->json.size();
   }
+  // The export's folder itself is a new name in the stick's root: make that durable too.
+  if (Status s = syncDirectory(target); !s) return fail("export: " + s.error());
   return sum;
+}
+
+size_t SessionStore::prune(double before, std::uintmax_t maxBytes) {
+  struct Entry {
+    fs::path json, png;
+    double mtime;
+    std::uintmax_t bytes;
+  };
+  std::vector<Entry> all;
+  std::uintmax_t total = 0;
+  for (const fs::path& j : list()) {
+    Entry e{j, fs::path(j).replace_extension(".png"), 0, 0};
+    struct stat st {};
+    if (::stat(j.c_str(), &st) == 0) e.mtime = double(st.st_mtime), e.bytes += std::uintmax_t(st.st_size);
+    if (::stat(e.png.c_str(), &st) == 0) e.bytes += std::uintmax_t(st.st_size);
+    total += e.bytes;
+    all.push_back(std::move(e));
+  }
+  size_t n = 0;
+  for (const Entry& e : all) {  // oldest first
+    if (!(e.mtime < before) && total <= maxBytes) break;
+    std::error_code ec;
+    fs::remove(e.png, ec);
+    if (fs::remove(e.json, ec)) ++n, total -= e.bytes;
+  }
+  if (n) syncDirectory(dir_);
+  return n;
 }
 
 }  // namespace emboss

@@ -33,6 +33,9 @@ class SessionStore {
   size_t pendingCount() const { return pending_.size(); }
   size_t savedCount() const { return saved_; }
 
+  // Deletes saved sessions (scene file and picture) written before `before` (Unix seconds), then
+  // the oldest until their files take at most `maxBytes`. Returns how many were deleted.
+  size_t prune(double before, std::uintmax_t maxBytes);
   // Every saved session's scene file, oldest first.
   std::vector<std::filesystem::path> list() const;
 
@@ -48,9 +51,10 @@ class SessionStore {
   // Copies every saved session (scene files and pictures), plus `current`, into a new folder
   // TARGET/emboss-sessions-STAMP. Checks the free space first; fails with a message that says how
   // much is needed and free, or which file could not be written. The sessions themselves are
-  // never touched.
+  // never touched. With `sinceUnix`, only sessions saved since then. Every file and folder written
+  // is fsynced before the export counts as done.
   Result<ExportSummary> exportAll(const std::filesystem::path& target, const std::string& stamp,
-                                  const std::optional<Extra>& current, const SpaceProbe& space = {}) const;
+                                  const std::optional<Extra>& current, const SpaceProbe& space = {}, double sinceUnix = 0) const;
 
  private:
   struct Pending {

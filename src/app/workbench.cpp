@@ -97,6 +97,7 @@ void Workbench::newSheet(double now) {
   model_->clear();
   strokes_.clear();
   redo_.clear();
+  strokesMade_ = 0;
   turned_ = false;
   animating_ = false;
   current_ = home_;
@@ -245,6 +246,7 @@ void Workbench::endStroke() {
     else strokes_.push_back(added);
     redo_.clear();
   }
+  if (added || strokeOpen_) ++strokesMade_;
   strokeOpen_ = false;
 }
 
@@ -263,7 +265,38 @@ size_t Workbench::addStroke(const std::vector<Operation>& ops) {
   const size_t before = model_->activeCount();
   commit(ops);
   strokeOpen_ = false;
-  return model_->activeCount() - before;
+  const size_t added = model_->activeCount() - before;
+  if (added) ++strokesMade_;
+  return added;
+}
+
+bool Workbench::restore(const std::vector<Operation>& ops, size_t cursor, std::vector<size_t> strokes, std::vector<size_t> redo,
+                        const std::string& metal, std::uint64_t strokesMade) {
+  stroke_.end();
+  strokeOpen_ = false;
+  model_->clear();
+  bool all = true;
+  for (const auto& op : ops)
+    if (!model_->add(op)) all = false;
+  const size_t n = model_->operations().size();
+  cursor = std::min(cursor, n);
+  while (model_->activeCount() > cursor && model_->undo()) {
+  }
+  size_t inStrokes = 0, inRedo = 0;
+  for (size_t k : strokes) inStrokes += k;
+  for (size_t k : redo) inRedo += k;
+  if (inStrokes != cursor || inStrokes + inRedo > n) {
+    strokes.assign(cursor, 1);
+    redo.clear();
+  }
+  strokes_ = std::move(strokes);
+  redo_ = std::move(redo);
+  if (const auto m = metalByName(metal)) metal_ = *m;
+  strokesMade_ = std::max<std::uint64_t>(strokesMade, strokes_.size());
+  committed_ += model_->activeCount();
+  changes_ = {};
+  changes_.full = true;
+  return all;
 }
 
 void Workbench::undoOps(size_t n) {

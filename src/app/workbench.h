@@ -93,6 +93,16 @@ class Workbench {
   // Operations committed since the bench was made (never decreases); the latency meter watches it.
   std::uint64_t committed() const { return committed_; }
   size_t strokes() const { return strokes_.size(); }
+  // Operations per stroke in effect, and per undone stroke (what undo and redo take).
+  const std::vector<size_t>& strokeSizes() const { return strokes_; }
+  const std::vector<size_t>& redoSizes() const { return redo_; }
+  // Strokes finished since the visitor's sheet was new (counts on, never back; undo does not lower it).
+  std::uint64_t strokesMade() const { return strokesMade_; }
+  // A session read back from the journal: every operation made (undone ones included), how many
+  // are in effect, the strokes they form, the metal. Stroke sizes that do not add up to `cursor`
+  // are replaced by one stroke per operation. Returns false when the model refused an operation.
+  bool restore(const std::vector<Operation>& ops, size_t cursor, std::vector<size_t> strokes, std::vector<size_t> redo,
+               const std::string& metal, std::uint64_t strokesMade);
   ViewChanges takeChanges();
 
  private:
@@ -120,6 +130,7 @@ class Workbench {
   Hover hover_;
   double pressure_ = 0;
   std::uint64_t committed_ = 0;
+  std::uint64_t strokesMade_ = 0;
   ViewChanges changes_;
 };
 

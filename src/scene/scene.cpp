@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "util/durable_file.h"
+
 #include "frep/vm_model.h"
 #include "frep/workpieces.h"
 #include "tools/metal.h"
@@ -404,6 +406,21 @@ std::string sceneToJson(const Scene& scene, const Model* model) {
   return out + "\n";
 }
 
+std::string operationToJson(const Operation& op) { return opJson(op).dump(); }
+
+Result<std::string> sceneWithOperations(const std::string& head, const std::vector<std::string>& operations) {
+  json doc = json::parse(head, nullptr, false);
+  if (!doc.is_object()) return fail("the session's head is not a scene");
+  json ops = json::array();
+  for (size_t i = 0; i < operations.size(); ++i) {
+    json o = json::parse(operations[i], nullptr, false);
+    if (!o.is_object()) return fail("operation " + std::to_string(i) + " is not JSON");
+    ops.push_back(std::move(o));
+  }
+  doc["operations"] = std::move(ops);
+  return doc.dump(1) + "\n";
+}
+
 Status writeFileAtomically(const std::filesystem::path& path, const std::string& bytes) {
   const std::filesystem::path tmp = path.string() + ".part";
   {
@@ -417,10 +434,7 @@ Status writeFileAtomically(const std::filesystem::path& path, const std::string&
       return fail("cannot write '" + path.string() + "' (disk full?)");
     }
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return fail("cannot write '" + path.string() + "': " + ec.message());
-  return Ok{};
+  return commitFile(tmp, path);
 }
 
 Status saveScene(const Scene& scene, const Model* model, const std::filesystem::path& path) {

@@ -46,7 +46,13 @@ Result<Scene> loadScene(const std::filesystem::path& path);
 
 // The scene as JSON with the model's active operations (when given) in place of scene.operations.
 std::string sceneToJson(const Scene& scene, const Model* model = nullptr);
-// Writes atomically (a temporary file, then a rename), so a full disk never leaves half a file.
+// One operation as the scene file writes it (a JSON object on one line).
+std::string operationToJson(const Operation& op);
+// A scene file's text from its head (sceneToJson of a scene without operations) and operations
+// (operationToJson each). Fails with a message when the head is not a scene's JSON.
+Result<std::string> sceneWithOperations(const std::string& head, const std::vector<std::string>& operations);
+// Writes atomically (a temporary file, fsync, a rename, fsync of the folder): a full disk or a power
+// cut leaves the old file or the new one, never half of one.
 Status saveScene(const Scene& scene, const Model* model, const std::filesystem::path& path);
 Status writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
 

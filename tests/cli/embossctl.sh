@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# embossctl against a running kiosk (headless, a recording replayed): status, sessions, an export
+# (refused on the root file system, done with --allow-any-dir, every file fsynced and readable),
+# reset, wipe, bad requests and a kiosk that is not there.
+set -u
+bin="$(cd "$1" && pwd)"; src="$(cd "$2" && pwd)"
+kiosk="$bin/emboss-kiosk"; ctl="$bin/embossctl"
+[ -x "$kiosk" ] && [ -x "$ctl" ] || { echo "skip: no emboss-kiosk or embossctl"; exit 77; }
+tmp="$(mktemp -d)"; trap 'kill $pid 2>/dev/null; rm -rf "$tmp"' EXIT
+fail=0
+bad() { echo "FAIL $*"; fail=1; }
+sock="$tmp/staff.sock"
+mkdir -p "$tmp/dest"
+"$kiosk" --display=headless --size 160x100 --threads 1 --sessions-dir "$tmp/sessions" --pieces "$src/firmware-app/pieces" \
+  --tablet="evemu:$src/tests/app/data/visitor-demo.events" --staff-socket "$sock" --run-for 60 >"$tmp/out" 2>"$tmp/err" &
+pid=$!
+for _ in $(seq 100); do [ -S "$sock" ] && break; sleep 0.1; done
+[ -S "$sock" ] || { bad "no socket at $sock"; cat "$tmp/err"; exit 1; }
+[ "$(stat -c %a "$sock")" = 660 ] || bad "the socket's mode is $(stat -c %a "$sock"), not 660"
+# Wait until the visitor has made something.
+for _ in $(seq 150); do "$ctl" --socket "$sock" status 2>/dev/null | grep -q 'operations_on_bench: [1-9]' && break; sleep 0.1; done
+"$ctl" --socket "$sock" status >"$tmp/status" || bad "status failed"
+grep -q '^state: visitor' "$tmp/status" || { bad "status does not say visitor"; cat "$tmp/status"; }
+grep -q 'journal: ok' "$tmp/status" || bad "status does not show the journal"
+grep -q 'free_mib' "$tmp/status" || bad "status does not show the disk"
+"$ctl" --socket "$sock" --json sessions | grep -q '"journal":\[{' || bad "sessions lists no journalled session"
+# The root file system is not a stick.
+if "$ctl" --socket "$sock" export "$tmp/dest" 2>"$tmp/e1"; then bad "export onto the root file system was accepted"; fi
+grep -q "not a stick" "$tmp/e1" || { bad "the refusal does not say why"; cat "$tmp/e1"; }
+"$ctl" --socket "$sock" export --allow-any-dir "$tmp/dest" >"$tmp/x" || { bad "export failed"; cat "$tmp/x"; }
+folder=$(sed -n 's/^folder: //p' "$tmp/x")
+[ -d "$folder" ] || bad "no export folder"
+case "$folder" in "$tmp/dest"/emboss-sessions-*) ;; *) bad "exported outside DEST: $folder" ;; esac
+ls "$folder"/current-*.json >/dev/null 2>&1 || bad "the session in progress was not exported"
+grep -q '"op"' "$folder"/current-*.json || bad "the exported session has no operations"
+[ -z "$(find "$tmp/dest" -name '*.part')" ] || bad "temporary files left in DEST"
+"$ctl" --socket "$sock" reset | grep -q 'session_ended: true' || bad "reset did not end the visitor's session"
+grep -q 'state: session-ended (now attract)' "$tmp/err" || bad "reset did not return the kiosk to attract mode"
+ls "$tmp/sessions"/session-*.json >/dev/null 2>&1 || bad "reset did not save the session"
+"$ctl" --socket "$sock" wipe --older-than 0 | grep -q 'wiped: [1-9]' || bad "wipe deleted nothing"
+ls "$tmp/sessions"/session-*.json >/dev/null 2>&1 && bad "wipe left the finished session's file"
+"$ctl" --socket "$sock" wipe 2>/dev/null; [ $? -eq 2 ] || bad "wipe without --older-than is not a usage error"
+printf '{"cmd":"format-disk"}\n' | timeout 5 python3 -c '
+import socket,sys; s=socket.socket(socket.AF_UNIX); s.connect(sys.argv[1]); s.sendall(sys.stdin.buffer.read()); print(s.recv(4096).decode())' "$sock" >"$tmp/raw"
+grep -q '"ok":false' "$tmp/raw" || bad "an unknown command was not refused"
+kill -TERM $pid; wait $pid; rc=$?
+[ $rc -eq 0 ] || bad "the kiosk exited $rc on SIGTERM"
+[ -e "$sock" ] && bad "the socket was left behind"
+"$ctl" --socket "$sock" status 2>"$tmp/e2"; [ $? -eq 1 ] || bad "no kiosk: not exit 1"
+grep -q "is emboss-kiosk running" "$tmp/e2" || bad "no kiosk: the message does not say so"
+[ $fail -eq 0 ] && echo "ok   embossctl: status, sessions, export, reset, wipe, refusals"
+exit $fail
