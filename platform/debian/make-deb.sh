@@ -13,6 +13,8 @@ bash platform/debian/install-deps.sh >&2
 launcher=()
 if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  # Paths relative to the checkout, so another clone of the same sources hits the same cache.
+  export CCACHE_BASEDIR="$top" CCACHE_NOHASHDIR=1
 fi
 # The package needs no tests; EMBOSS_TESTS=OFF also keeps GoogleTest out of the build.
 # release-flags.cmake: Release, /usr, Debian's hardening flags.

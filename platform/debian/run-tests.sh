@@ -6,8 +6,16 @@ cd "$top"
 bash platform/debian/install-deps.sh
 jobs="$(nproc)"
 
+# ccache (outside the checkout, ~/.cache/ccache) keyed by paths relative to the checkout: a rerun,
+# or another clone of the same sources, compiles only what changed.
+launcher=()
+if command -v ccache >/dev/null; then
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="$top" CCACHE_NOHASHDIR=1
+fi
+
 echo "== build (RelWithDebInfo)"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
 cmake --build build -j "$jobs"
 
 echo "== tests"
@@ -15,7 +23,7 @@ echo "== tests"
 ctest --test-dir build --output-on-failure -j "$jobs" --timeout 900
 
 echo "== fuzzers (libFuzzer, clang; ${EMBOSS_FUZZ_SECONDS:-20} s each)"
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DEMBOSS_FUZZ=ON >/dev/null
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DEMBOSS_FUZZ=ON "${launcher[@]}" >/dev/null
 cmake --build build-fuzz -j "$jobs"
 fuzz_failed=0
 for f in build-fuzz/fuzz_*; do
