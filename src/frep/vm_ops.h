@@ -227,7 +227,12 @@ inline Interval opAcos(Interval a) {
 }
 inline Interval opAtan(Interval a) { return {std::atan(a.lo), std::atan(a.hi)}; }
 inline Interval opExp(Interval a) { return exp(a); }
-inline Interval opLn(Interval a) { return log(a); }
+// ln 0 is -inf exactly (as the double version gives, e.g. the log of an exp that underflowed); the
+// whole line would lose it, and with it every bound of a log-sum-exp blend far from the model.
+inline Interval opLn(Interval a) {
+  if (a.hi == 0.0 && a.lo <= 0.0) return {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  return log(a);
+}
 inline Interval opNot(Interval a) {
   if (!a.contains(0.0)) return {0.0, 0.0};
   if (a.lo == 0.0 && a.hi == 0.0) return {1.0, 1.0};
