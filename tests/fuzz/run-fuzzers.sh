@@ -16,7 +16,7 @@ for src in tests/fuzz/fuzz_*.cpp; do
   mkdir -p "$corpus"
   seeds="tests/fuzz/seeds/${name#fuzz_}"
   [ -d "$seeds" ] || seeds=""
-  if "$f" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "$corpus" $seeds \
+  if "$f" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$dir/$name-" "$corpus" $seeds \
       >"$dir/$name.log" 2>&1 &&
      ! grep -q 'runtime error:\|ERROR: AddressSanitizer\|ERROR: libFuzzer\|SUMMARY: ' "$dir/$name.log"; then
     echo "fuzz: $name ok ($(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/$name.log") runs)"
