@@ -260,6 +260,19 @@ class KmsDisplay final : public Display {
     }
     std::string error;
     if (!showFrame(&error)) return fail(error);
+    // GBM allocates a surface's buffers when a swap first needs one. Mesa's software path
+    // (kms_swrast) crashes when that allocation fails because the card was just unplugged, so
+    // every buffer the flips use (the one on screen, the one being flipped, the one drawn into)
+    // is allocated now: two more swaps, their buffers held until both exist.
+    gbm_bo* extra[2] = {nullptr, nullptr};
+    for (gbm_bo*& bo : extra) {
+      if (clearColor != nullptr && clear != nullptr) clear(0x00004000 /* GL_COLOR_BUFFER_BIT */);
+      if (!session_->swapBuffers()) break;
+      bo = gbm_surface_lock_front_buffer(surface_.get());
+      if (bo == nullptr) break;
+    }
+    for (gbm_bo* bo : extra)
+      if (bo != nullptr) gbm_surface_release_buffer(surface_.get(), bo);
     lastConnectorCheck_ = std::chrono::steady_clock::now();
     return Ok{};
   }
@@ -270,6 +283,11 @@ class KmsDisplay final : public Display {
 
   bool present(const Image& frame, std::span<const Rect> dirty, const Overlay& overlay) override {
     if (lost_) return false;
+    // Every ioctl on an unplugged card fails with ENODEV: notice it before any GL work, which
+    // would need the card's buffers.
+    if (CrtcPtr crtc(drmModeGetCrtc(fd_.get(), crtcId_)); !crtc && errno == ENODEV) {
+      return loseOutput(cardName(info_.card) + " " + info_.connector + " is gone (the card was removed)");
+    }
     if (!session_->makeCurrent()) return loseOutput("cannot make the GLES context current");
     const auto now = std::chrono::steady_clock::now();
     if (now - lastConnectorCheck_ >= kConnectorCheckInterval) {
