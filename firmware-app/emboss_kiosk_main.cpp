@@ -375,6 +375,7 @@ int main(int argc, char** argv) {
     double lastProbe = t0, lastDisplayTry = t0, lastCameraProbe = t0, lastGpioProbe = t0;
     std::vector<X11Event> xev;
     bool closed = false;
+    bool displayMissing = false;  // the display was lost; a stand-in in memory is shown meanwhile
     while (!gStop) {
       if (x11) {
         xev.clear();
@@ -445,13 +446,24 @@ int main(int argc, char** argv) {
         lastCameraProbe = now;
         openCamera();
       }
-      if (app.displayLost() && now - lastDisplayTry > 2.0) {
+      // A lost display is let go of at once (a stand-in in memory keeps its size for the app and the
+      // snapshot): a KMS output stays owned (DRM master) by its file while it is open, and the
+      // display taken again must be able to set its mode.
+      if (app.displayLost() && !displayMissing) {
+        auto standIn = std::make_unique<MemoryDisplay>(screen->width(), screen->height(), "display lost");
+        app.setDisplay(*standIn);
+        screen = std::move(standIn);
+        x11 = nullptr;
+        displayMissing = true;
+      }
+      if (displayMissing && now - lastDisplayTry > 2.0) {
         lastDisplayTry = now;
         std::string log;
         if (auto d = createDisplay(reprobe, config.width, config.height, &log)) {
           screen = std::move(*d);
           x11 = asX11Display(screen.get());
           app.setDisplay(*screen);
+          displayMissing = false;
           logLine("display: back: " + screen->name());
         }
       }

@@ -23,7 +23,11 @@
 namespace emboss {
 namespace {
 
-constexpr int kFlipTimeoutMs = 1000;  // a 60 Hz flip takes 17 ms; a second means the output is gone
+// A 60 Hz flip takes 17 ms, but under load (or emulation) one can take seconds: a slow flip is
+// waited for (again before the next one), and only this long without its event means the output
+// is gone. One wait is at most a second, so a signal (SIGTERM) is seen within a second.
+constexpr int kFlipWaitMs = 1000;
+constexpr int kFlipGoneMs = 10000;
 constexpr auto kConnectorCheckInterval = std::chrono::seconds(1);
 
 class UniqueFd {
@@ -206,6 +210,9 @@ class KmsDisplay final : public Display {
       drmModeSetCrtc(fd_.get(), savedCrtc_->crtc_id, savedCrtc_->buffer_id, savedCrtc_->x, savedCrtc_->y,
                      &connectorId_, 1, &savedCrtc_->mode);
     }
+    if (flipPending_) waitForFlip(kFlipWaitMs);  // a flip under way ends before its buffers go
+    if (!flipPending_ && flipped_ != nullptr) completeFlip();
+    if (flipped_ != nullptr) gbm_surface_release_buffer(surface_.get(), flipped_);  // the fd closes after
     if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
     session_.reset();  // the EGL surface before the gbm surface under it
     surface_.reset();  // destroys the buffers, whose FbData removes their framebuffers
@@ -253,6 +260,19 @@ class KmsDisplay final : public Display {
     }
     std::string error;
     if (!showFrame(&error)) return fail(error);
+    // GBM allocates a surface's buffers when a swap first needs one. Mesa's software path
+    // (kms_swrast) crashes when that allocation fails because the card was just unplugged, so
+    // every buffer the flips use (the one on screen, the one being flipped, the one drawn into)
+    // is allocated now: two more swaps, their buffers held until both exist.
+    gbm_bo* extra[2] = {nullptr, nullptr};
+    for (gbm_bo*& bo : extra) {
+      if (clearColor != nullptr && clear != nullptr) clear(0x00004000 /* GL_COLOR_BUFFER_BIT */);
+      if (!session_->swapBuffers()) break;
+      bo = gbm_surface_lock_front_buffer(surface_.get());
+      if (bo == nullptr) break;
+    }
+    for (gbm_bo* bo : extra)
+      if (bo != nullptr) gbm_surface_release_buffer(surface_.get(), bo);
     lastConnectorCheck_ = std::chrono::steady_clock::now();
     return Ok{};
   }
@@ -263,6 +283,11 @@ class KmsDisplay final : public Display {
 
   bool present(const Image& frame, std::span<const Rect> dirty, const Overlay& overlay) override {
     if (lost_) return false;
+    // Every ioctl on an unplugged card fails with ENODEV: notice it before any GL work, which
+    // would need the card's buffers.
+    if (CrtcPtr crtc(drmModeGetCrtc(fd_.get(), crtcId_)); !crtc && errno == ENODEV) {
+      return loseOutput(cardName(info_.card) + " " + info_.connector + " is gone (the card was removed)");
+    }
     if (!session_->makeCurrent()) return loseOutput("cannot make the GLES context current");
     const auto now = std::chrono::steady_clock::now();
     if (now - lastConnectorCheck_ >= kConnectorCheckInterval) {
@@ -338,33 +363,74 @@ class KmsDisplay final : public Display {
       }
       modeSet_ = true;
     } else {
-      bool pending = true;
-      if (drmModePageFlip(fd_.get(), crtcId_, fb, DRM_MODE_PAGE_FLIP_EVENT, &pending) != 0) {
+      // The previous flip first: a second one while it is pending would be refused (EBUSY).
+      if (flipPending_ && !finishFlip(error, where)) {
+        gbm_surface_release_buffer(surface_.get(), next);
+        return false;
+      }
+      // The event's data is a member, not a local: a flip that completes after a wait ran out is
+      // handled by a later wait, and must find live memory.
+      if (drmModePageFlip(fd_.get(), crtcId_, fb, DRM_MODE_PAGE_FLIP_EVENT, &flipPending_) != 0) {
         const int e = errno;
         gbm_surface_release_buffer(surface_.get(), next);
         *error = "kms: page flip refused on " + where + ": " + std::strerror(e);
         return false;
       }
-      drmEventContext events{};
-      events.version = 2;
-      events.page_flip_handler = onPageFlip;
-      while (pending) {
-        pollfd p{fd_.get(), POLLIN, 0};
-        const int ready = ::poll(&p, 1, kFlipTimeoutMs);
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready <= 0 || (p.revents & (POLLERR | POLLHUP | POLLNVAL))) {
-          // The flip may still land later; keep the buffer locked so it is never reused under it.
-          if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
-          onScreen_ = next;
-          *error = "kms: no vblank from " + where + " for a second (display off or unplugged?)";
-          return false;
-        }
-        drmHandleEvent(fd_.get(), &events);
-      }
+      flipPending_ = true;
+      flipped_ = next;
+      flipStart_ = std::chrono::steady_clock::now();
+      // Wait for this flip within one wait; if it is slower (or a signal came), it is finished
+      // before the next frame, and the frame counts as shown.
+      if (!waitForFlip(kFlipWaitMs)) return loseFlip(error, where);
+      if (flipPending_) return true;
+      completeFlip();
+      return true;
     }
     if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
     onScreen_ = next;
     return true;
+  }
+
+  // Waits up to ms for the pending flip's event; false when the device reports an error or hang-up.
+  // Returns early (true, still pending) on a signal.
+  bool waitForFlip(int ms) {
+    drmEventContext events{};
+    events.version = 2;
+    events.page_flip_handler = onPageFlip;
+    if (!flipPending_) return true;
+    pollfd p{fd_.get(), POLLIN, 0};
+    const int ready = ::poll(&p, 1, ms);
+    if (ready < 0) return errno == EINTR;
+    if (ready == 0) return true;
+    if (p.revents & (POLLERR | POLLHUP | POLLNVAL)) return false;
+    drmHandleEvent(fd_.get(), &events);
+    return true;
+  }
+
+  // The flip under way becomes the buffer on screen.
+  void completeFlip() {
+    if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
+    onScreen_ = flipped_;
+    flipped_ = nullptr;
+  }
+
+  // Waits for the flip still pending from the last frame: done, or the output is gone.
+  bool finishFlip(std::string* error, const std::string& where) {
+    while (flipPending_) {
+      if (!waitForFlip(kFlipWaitMs)) return loseFlip(error, where);
+      if (flipPending_ && std::chrono::steady_clock::now() - flipStart_ > std::chrono::milliseconds(kFlipGoneMs)) {
+        *error = "kms: no vblank from " + where + " for " + std::to_string(kFlipGoneMs / 1000) +
+                 " s (display off or unplugged?)";
+        return false;
+      }
+    }
+    completeFlip();
+    return true;
+  }
+
+  bool loseFlip(std::string* error, const std::string& where) {
+    *error = "kms: the display " + where + " reported an error while flipping (unplugged?)";
+    return false;
   }
 
   KmsOutput info_;
@@ -377,6 +443,9 @@ class KmsDisplay final : public Display {
   std::unique_ptr<EglSession> session_;
   std::unique_ptr<GlPresenter> presenter_;
   gbm_bo* onScreen_ = nullptr;  // locked front buffer being scanned out
+  gbm_bo* flipped_ = nullptr;   // locked buffer of the flip under way
+  bool flipPending_ = false;    // the page flip event's data: cleared by onPageFlip
+  std::chrono::steady_clock::time_point flipStart_;
   bool modeSet_ = false;
   bool lost_ = false;
   std::chrono::steady_clock::time_point lastConnectorCheck_;

@@ -25,22 +25,7 @@ ctest --test-dir build --output-on-failure -j "$jobs" --timeout 900
 echo "== fuzzers (libFuzzer, clang; ${EMBOSS_FUZZ_SECONDS:-20} s each)"
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DEMBOSS_FUZZ=ON "${launcher[@]}" >/dev/null
 cmake --build build-fuzz -j "$jobs"
-fuzz_failed=0
-for f in build-fuzz/fuzz_*; do
-  [ -x "$f" ] || continue
-  name="$(basename "$f")"
-  corpus="build-fuzz/corpus-$name"
-  mkdir -p "$corpus"
-  seeds="tests/fuzz/seeds/${name#fuzz_}"
-  [ -d "$seeds" ] || seeds=""
-  if "$f" -max_total_time="${EMBOSS_FUZZ_SECONDS:-20}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=0 "$corpus" $seeds \
-      >"build-fuzz/$name.log" 2>&1; then
-    echo "fuzz: $name ok ($(grep -c . "build-fuzz/$name.log") log lines)"
-  else
-    echo "fuzz: $name FAILED"; tail -40 "build-fuzz/$name.log"; fuzz_failed=1
-  fi
-done
-[ "$fuzz_failed" -eq 0 ] || { echo "fuzzing found a crash"; exit 1; }
+bash tests/fuzz/run-fuzzers.sh build-fuzz "${EMBOSS_FUZZ_SECONDS:-20}"
 
 # The closing line of the whole run, counted from CTest's own summary.
 summary="$(ctest --test-dir build -N | tail -1)"

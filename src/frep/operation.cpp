@@ -1,9 +1,12 @@
 // The operations' kernels, supports and parameter checks (equations (2), (3), (4) of the paper).
 #include "frep/operation.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 
 #include "frep/kernels.h"
 
@@ -19,7 +22,6 @@ using kernels::kSupportSpan;
 constexpr double kAgnesiMaxSlope = 0.649519052838329;
 constexpr double kTaperSlopeFactor = 0.1875;
 
-bool finite(double v) { return std::isfinite(v); }
 
 template <class T>
 T segmentDistance2In3D(const P3<T>& p, const Vec3& a, const Vec3& b) {
@@ -138,53 +140,106 @@ const char* opKindName(OpKind k) {
   return "?";
 }
 
+namespace {
+
+std::string shortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+// "" when lo <= v <= hi, else "key: v is out of range: lo to hi unit".
+std::string outOfRange(const std::string& key, double v, double lo, double hi, const char* unit) {
+  if (v >= lo && v <= hi) return {};
+  return key + ": " + (std::isnan(v) ? std::string("nan") : shortNumber(v)) + " is out of range: " + shortNumber(lo) +
+         " to " + shortNumber(hi) + unit;
+}
+std::string length(const std::string& key, double v) { return outOfRange(key, v, kMinLengthMm, kMaxLengthMm, " mm"); }
+std::string coordinate(const std::string& key, double v) {
+  return outOfRange(key, v, -kMaxLengthMm, kMaxLengthMm, " mm");
+}
+std::string point3(const std::string& key, const Vec3& v) {
+  for (const auto& [axis, c] : {std::pair{0, v.x}, std::pair{1, v.y}, std::pair{2, v.z}}) {
+    std::string e = coordinate(key + "[" + std::to_string(axis) + "]", c);
+    if (!e.empty()) return e;
+  }
+  return {};
+}
+
+}  // namespace
+
 std::string validate(const Operation& op) {
-  auto pos = [](double v) { return std::isfinite(v) && v > 0.0; };
-  for (const auto& pt : op.points)
-    if (!finite(pt.x) || !finite(pt.y)) return "points: every coordinate must be a finite number";
+  std::string e;
+  const auto check = [&e](std::string problem) {
+    if (e.empty()) e = std::move(problem);
+  };
+  const char* pathKey = op.kind == OpKind::Region ? "contour" : "points";
+  if (op.points.size() > kMaxPathPoints)
+    return std::string(pathKey) + ": " + std::to_string(op.points.size()) + " points, at most " +
+           shortNumber(kMaxPathPoints);
+  for (size_t i = 0; i < op.points.size() && e.empty(); ++i) {
+    const std::string key = std::string(pathKey) + "[" + std::to_string(i) + "]";
+    check(coordinate(key + "[0]", op.points[i].x));
+    check(coordinate(key + "[1]", op.points[i].y));
+  }
+  if (!e.empty()) return e;
   switch (op.kind) {
     case OpKind::Trace:
-      if (!pos(op.a)) return "a: must be a positive number (mm)";
+      check(length("a", op.a));
       if (op.points.empty()) return "points: a trace needs at least one point";
       for (const auto* j : {&op.joinStart, &op.joinEnd}) {
-        const char* name = j == &op.joinStart ? "join_start" : "join_end";
-        if (!std::isfinite(j->r) || j->r < 0.0) return std::string(name) + ".r: must be a finite number >= 0 (mm)";
-        if (j->on() && (!finite(j->dir.x) || !finite(j->dir.y) || std::hypot(j->dir.x, j->dir.y) <= 1e-12))
-          return std::string(name) + ".dir: must be a direction (two finite numbers, not both zero)";
+        const std::string name = j == &op.joinStart ? "join_start" : "join_end";
+        // The tools shorten a joint to 0.4 of a short piece's length, so its lower bound is lower.
+        if (j->r != 0.0) check(outOfRange(name + ".r", j->r, 1e-6, kMaxLengthMm, " mm"));
+        if (j->on() && (!(std::abs(j->dir.x) <= 1e6 && std::abs(j->dir.y) <= 1e6) ||
+                        std::hypot(j->dir.x, j->dir.y) <= 1e-12))
+          check(name + ".dir: must be a direction (two numbers of at most 1e6, not both zero)");
       }
       break;
     case OpKind::Punch:
     case OpKind::Press:
-      if (!pos(op.a)) return "a: must be a positive number (mm)";
-      if (!pos(op.q)) return "q: must be a positive number";
-      if (!finite(op.p)) return "p: must be a finite number";
-      if (op.kind == OpKind::Punch && !(finite(op.at.x) && finite(op.at.y) && finite(op.at.z)))
-        return "at: must be three finite numbers";
+      check(length("a", op.a));
+      check(outOfRange("q", op.q, 1.0 / kMaxShape, kMaxShape, ""));
+      check(outOfRange("p", op.p, -kMaxShape, kMaxShape, ""));
+      if (op.kind == OpKind::Punch) check(point3("at", op.at));
       if (op.kind == OpKind::Press && op.points.empty()) return "points: a press needs at least one point";
+      if (op.kind == OpKind::Press && e.empty()) {
+        // The punches PreparedOp places every L/4 along the path (counted in double: no overflow).
+        const double spacing = 0.25 * op.characteristicLength();
+        double punches = 1.0;
+        for (size_t i = 1; i < op.points.size(); ++i) {
+          const double len = std::hypot(op.points[i].x - op.points[i - 1].x, op.points[i].y - op.points[i - 1].y);
+          punches += std::max(1.0, std::ceil(len / spacing));
+        }
+        if (punches > kMaxPathPoints)
+          check("points: the path needs " + shortNumber(punches) + " punches at a spacing of " + shortNumber(spacing) +
+                " mm, at most " + shortNumber(kMaxPathPoints));
+      }
       break;
     case OpKind::Region:
       if (op.points.size() < 3) return "contour: a region needs a closed contour of at least 3 points";
-      if (!finite(op.height)) return "height: must be a finite number (mm)";
-      if (!pos(op.falloff)) return "falloff: must be a positive number (mm)";
+      check(coordinate("height", op.height));
+      check(length("falloff", op.falloff));
       break;
     default: {
       const ToolShape& t = op.tool;
-      if (!(finite(t.center.x) && finite(t.center.y) && finite(t.center.z))) return "tool.center: must be three finite numbers";
+      check(point3("tool.center", t.center));
       if (t.type == ToolShape::Type::Flat) {
-        if (!pos(t.half.x) || !pos(t.half.y) || !pos(t.half.z)) return "tool.size: the flat face's sizes must be positive";
-      } else if (!pos(t.r)) {
-        return "tool.r: must be a positive number (mm)";
+        check(length("tool.size[0]", 2.0 * t.half.x));
+        check(length("tool.size[1]", 2.0 * t.half.y));
+        check(length("tool.size[2]", 2.0 * t.half.z));
+      } else {
+        check(length("tool.r", t.r));
       }
-      if (t.type == ToolShape::Type::Cylinder && !(finite(t.end.x) && finite(t.end.y) && finite(t.end.z)))
-        return "tool.end: must be three finite numbers";
+      if (t.type == ToolShape::Type::Cylinder) check(point3("tool.end", t.end));
       if (op.kind != OpKind::Subtract) {
-        if (!finite(op.a1)) return "a1: must be a finite number";
-        if (!pos(op.a2)) return "a2: must be a positive number";
-        if (!pos(op.a3)) return "a3: must be a positive number";
+        check(coordinate("a1", op.a1));
+        check(length("a2", op.a2));
+        check(length("a3", op.a3));
       }
     }
   }
-  return {};
+  return e;
 }
 
 PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
@@ -232,6 +287,7 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
       for (size_t i = 1; i < pts.size(); ++i) {
         const double dx = pts[i].x - pts[i - 1].x, dy = pts[i].y - pts[i - 1].y;
         const double len = std::hypot(dx, dy);
+        // validate() has bounded the count (kMaxPathPoints), so it fits an int.
         const int n = std::max(1, static_cast<int>(std::ceil(len / spacing)));
         for (int k = 1; k <= n; ++k) {
           const double t = static_cast<double>(k) / n;

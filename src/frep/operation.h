@@ -119,7 +119,16 @@ class PreparedOp {
   double maxSlope_ = 0.0;
 };
 
-// Checks an operation's parameters; an empty string when it is valid, else what is wrong.
+// The physical ranges of an operation's numbers, checked by validate(). Lengths in mm: a sheet and
+// its tools fit in a 4 m square, a tool is at least a micrometre.
+inline constexpr double kMaxLengthMm = 2000.0;  // sizes, radii, depths, heights; |coordinate| too
+inline constexpr double kMinLengthMm = 0.001;   // sizes and radii (a, falloff, r, a2, a3, tool sizes)
+inline constexpr double kMaxShape = 1000.0;     // |p| (depth over a) and q, dimensionless; q >= 1/kMaxShape
+inline constexpr double kMaxPathPoints = 100000;  // points of a path or contour, punches of a press
+
+// Checks an operation's parameters against their kinds and physical ranges; an empty string when
+// it is valid, else what is wrong: the key, the value and the range ("a: 1e+308 is out of range:
+// 0.001 to 2000 mm").
 std::string validate(const Operation& op);
 const char* opKindName(OpKind k);
 

@@ -192,7 +192,8 @@ class VmWorkpiece : public Workpiece {
   double value(const P3<double>& p) const override;
   Grad value(const P3<Grad>& p) const override;
   Interval value(const P3<Interval>& p) const override;
-  // Found by interval subdivision at creation: outside it f < 0 is proven (up to rounding).
+  // Found at creation by vmModelBounds: outside it f < 0 (proven by intervals up to rounding, or
+  // sampled where intervals are too loose).
   Box3 bounds() const override { return bounds_; }
   double halfThickness() const override { return d_; }
   nlohmann::json toJson() const override;
@@ -215,10 +216,12 @@ class VmWorkpiece : public Workpiece {
   Box3 bounds_;
 };
 
-// The box (model units) outside which the model is proven positive (outside, vm convention), by
-// branch-and-bound interval subdivision of [-halfWidth, halfWidth]^n (n = 3 if it uses z, else 2;
-// for 2D models the z range is returned as 0..0). Fails when the inside is empty or reaches the
-// edge of the search box. Exposed for tests and tools.
+// The box (model units) outside which the model is positive (outside, vm convention), by
+// interval subdivision of [-halfWidth, halfWidth]^n (n = 3 if it uses z, else 2; for 2D models the
+// z range is returned as 0..0), then branch and bound inside the coarse box found. Where intervals
+// stay too loose to prove a cell outside at the finest level the cell budget allows, the cell
+// counts as outside when the model is positive at all 3^n points of a grid over it. Fails when the
+// inside is empty or reaches the edge of the search box. Exposed for tests and tools.
 Result<Box3> vmModelBounds(const VmProgram& program, double halfWidth = VmWorkpiece::kSearchHalfWidth);
 
 }  // namespace emboss

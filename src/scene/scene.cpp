@@ -50,6 +50,37 @@ double positive(const json& obj, const char* key, const std::string& where, std:
   return d;
 }
 
+// A number within [lo, hi] (unit: how the range is written in the message).
+double ranged(const json& obj, const char* key, const std::string& where, double lo, double hi, const char* unit,
+              std::optional<double> fallback = std::nullopt) {
+  const double d = number(obj, key, where, fallback);
+  if (!(d >= lo && d <= hi)) {
+    std::ostringstream m;
+    m << d << " is out of range: " << lo << " to " << hi << unit;
+    bad(where + "." + key, m.str());
+  }
+  return d;
+}
+// A size in mm (kMinLengthMm to kMaxLengthMm, as an operation's).
+double size(const json& obj, const char* key, const std::string& where, std::optional<double> fallback = std::nullopt) {
+  return ranged(obj, key, where, kMinLengthMm, kMaxLengthMm, " mm", fallback);
+}
+// A camera may stand well away from the sheet.
+constexpr double kMaxCameraDistanceMm = 100 * kMaxLengthMm;
+
+// Each of v's components within +-limit.
+Vec3 within(const Vec3& v, const std::string& where, double limit) {
+  const double c[3] = {v.x, v.y, v.z};
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::abs(c[i]) <= limit)) {
+      std::ostringstream m;
+      m << c[i] << " is out of range: " << -limit << " to " << limit << " mm";
+      bad(where + "[" + std::to_string(i) + "]", m.str());
+    }
+  }
+  return v;
+}
+
 std::string text(const json& obj, const char* key, const std::string& where, std::optional<std::string> fallback = std::nullopt) {
   const json* v = find(obj, key);
   if (!v) {
@@ -186,8 +217,13 @@ Operation operation(const json& v, const std::string& where) {
     bad(where + ".op", "unknown operation \"" + kind +
                            "\" (trace, punch, press, region, blend_union, subtract, blend_subtract)");
   }
+  // validate() checks the physical ranges; its message starts with the key.
   const std::string problem = validate(op);
-  if (!problem.empty()) bad(where, problem);
+  if (!problem.empty()) {
+    const size_t colon = problem.find(": ");
+    if (colon == std::string::npos) bad(where, problem);
+    bad(where + "." + problem.substr(0, colon), problem.substr(colon + 2));
+  }
   return op;
 }
 
@@ -195,17 +231,18 @@ std::shared_ptr<const Workpiece> workpiece(const json& v, const std::filesystem:
   const std::string w = "workpiece";
   if (!v.is_object()) bad(w, "must be an object with a \"type\" key");
   const std::string type = text(v, "type", w);
-  if (type == "plate") return std::make_shared<Plate>(positive(v, "w", w), positive(v, "h", w), positive(v, "d", w));
-  if (type == "disc") return std::make_shared<Disc>(positive(v, "r", w), positive(v, "d", w));
+  if (type == "plate") return std::make_shared<Plate>(size(v, "w", w), size(v, "h", w), size(v, "d", w));
+  if (type == "disc") return std::make_shared<Disc>(size(v, "r", w), size(v, "d", w));
   if (type == "bowl") {
-    const double r = positive(v, "r", w), depth = positive(v, "depth", w), d = positive(v, "d", w);
+    const double r = size(v, "r", w), depth = size(v, "depth", w), d = size(v, "d", w);
     if (depth >= r) bad(w + ".depth", "must be less than the rim radius r (a shallow bowl)");
     return std::make_shared<Bowl>(r, depth, d);
   }
   if (type == "vm") {
     const std::string file = text(v, "file", w);
-    const double scale = positive(v, "scale", w, 1.0);
-    const double d = positive(v, "d", w, 0.5);
+    // The model's unit in mm: its +-1000-unit search box times the scale stays a physical size.
+    const double scale = ranged(v, "scale", w, 1e-6, kMaxLengthMm, " mm per unit", 1.0);
+    const double d = size(v, "d", w, 0.5);
     std::filesystem::path p(file);
     if (p.is_relative()) p = baseDir / p;
     auto loaded = VmWorkpiece::open(p, file, scale, d);
@@ -226,12 +263,12 @@ CameraSpec camera(const json& v, const Box3& bounds) {
     c.type = CameraSpec::Type::Ortho;
   else
     bad(w + ".type", "must be \"perspective\" or \"ortho\"");
-  c.eye = vec3(v, "eye", w, c.eye);
-  c.target = vec3(v, "target", w, c.target);
-  c.up = vec3(v, "up", w, c.up);
+  c.eye = within(vec3(v, "eye", w, c.eye), w + ".eye", kMaxCameraDistanceMm);
+  c.target = within(vec3(v, "target", w, c.target), w + ".target", kMaxCameraDistanceMm);
+  c.up = within(vec3(v, "up", w, c.up), w + ".up", kMaxCameraDistanceMm);
   c.fovDeg = number(v, "fov_deg", w, c.fovDeg);
   if (!(c.fovDeg > 1 && c.fovDeg < 170)) bad(w + ".fov_deg", "must be between 1 and 170 degrees");
-  c.height = positive(v, "height", w, c.height);
+  c.height = ranged(v, "height", w, kMinLengthMm, kMaxCameraDistanceMm, " mm", c.height);
   const double dx = c.eye.x - c.target.x, dy = c.eye.y - c.target.y, dz = c.eye.z - c.target.z;
   if (dx * dx + dy * dy + dz * dz <= 0) bad(w + ".eye", "must differ from the target");
   return c;

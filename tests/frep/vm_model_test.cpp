@@ -14,6 +14,7 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -825,10 +826,148 @@ TEST(VmModel, BoundsAreTightAndEverythingOutsideIsNegative) {
   EXPECT_LT(g.y1, 1.2 * 20.0);
 }
 
+// A bounded 3D model of every opcode: two unit spheres blended by a log-sum-exp smooth minimum
+// (ln, exp, div: far from them both exp terms underflow to 0 and ln 0 is -inf, as in Fidget's
+// bear), max'ed with a term of all the other opcodes that stays within -2 +- 0.002.
+constexpr const char* kEveryOpcode = R"(x var-x
+y var-y
+z var-z
+x2 square x
+y2 square y
+z2 square z
+r2 add x2 y2
+r2z add r2 z2
+r sqrt r2z
+one const 1
+a sub r one
+xm sub x one
+xm2 square xm
+s2 add xm2 y2
+s2z add s2 z2
+rb sqrt s2z
+b sub rb one
+k const -8
+ka mul k a
+kb mul k b
+ea exp ka
+eb exp kb
+sum add ea eb
+l ln sum
+nl neg l
+eight const 8
+blend div nl eight
+t1 sin x
+t2 cos y
+t3 atan z
+half const 0.5
+t3h mul t3 half
+t4 tan t3h
+t5 asin t1
+t6 acos t2
+t7 abs z
+two const 2
+t8 add two x2
+t9 recip t8
+t10 floor x
+t11 ceil y
+t12 round z
+t13 not x
+t14 compare x y
+t15 and x y
+t16 or y z
+three const 3
+t17 mod x three
+t18 add two y2
+t19 pow t18 half
+t20 atan2 y x
+t21 min t1 t2
+u1 add t1 t2
+u2 add u1 t4
+u3 add u2 t5
+u4 add u3 t6
+u5 add u4 t7
+u6 add u5 t9
+u7 add u6 t10
+u8 add u7 t11
+u9 add u8 t12
+u10 add u9 t13
+u11 add u10 t14
+u12 add u11 t15
+u13 add u12 t16
+u14 add u13 t17
+u15 add u14 t19
+u16 add u15 t20
+u17 add u16 t21
+u18 atan u17
+milli const 0.001
+u19 mul u18 milli
+h sub u19 two
+out max blend h
+)";
+
+double everyOpcode(double x, double y, double z) {
+  const double a = std::sqrt(x * x + y * y + z * z) - 1, b = std::sqrt((x - 1) * (x - 1) + y * y + z * z) - 1;
+  const double blend = -std::log(std::exp(-8 * a) + std::exp(-8 * b)) / 8;
+  const double t1 = std::sin(x), t2 = std::cos(y);
+  const double t13 = x == 0 ? 1 : 0, t14 = x < y ? -1 : x > y ? 1 : 0, t15 = x == 0 ? x : y, t16 = y != 0 ? y : z;
+  double t17 = std::fmod(x, 3.0);
+  if (t17 < 0) t17 += 3;
+  double u = t1 + t2 + std::tan(std::atan(z) * 0.5) + std::asin(t1) + std::acos(t2) + std::abs(z) + 1 / (2 + x * x) +
+             std::floor(x) + std::ceil(y) + std::round(z) + t13 + t14 + t15 + t16 + t17 + std::pow(2 + y * y, 0.5) +
+             std::atan2(y, x) + std::min(t1, t2);
+  const double h = std::atan(u) * 0.001 - 2;
+  return std::max(blend, h);
+}
+
+TEST(VmModel, BoundedModelOfEveryOpcodeLoadsAndEvaluates) {
+  VmProgram p = parseOk(kEveryOpcode);
+  ASSERT_TRUE(p.usesZ());
+  std::set<VmOp> used;
+  for (const auto& n : p.nodes()) used.insert(n.op);
+  EXPECT_EQ(used.size(), 33u) << "every opcode of the format is in the model";
+  auto w = VmWorkpiece::create(p, "every.vm", 10.0, 1.0);
+  ASSERT_TRUE(w.ok()) << w.error();
+  // The blend's inside: about [-1, 2] x [-1, 1]^2 units, 10 mm each.
+  const Box3 b = (*w)->bounds();
+  EXPECT_LT(b.x0, -10.0);
+  EXPECT_GT(b.x1, 20.0);
+  EXPECT_GT(b.x0, -12.0);
+  EXPECT_LT(b.x1, 22.0);
+  EXPECT_LT(b.z0, -10.0);
+  EXPECT_GT(b.z1, 10.0);
+  EXPECT_LT(b.z1, 12.0);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int i = 0; i < 500; ++i) {
+    const double x = u(rng), y = u(rng), z = u(rng);
+    EXPECT_NEAR(p.eval(x, y, z), everyOpcode(x, y, z), 1e-12) << x << " " << y << " " << z;
+    // The workpiece: mm, positive inside.
+    EXPECT_NEAR((*w)->value(P3<double>{10 * x, 10 * y, 10 * z}), -10 * everyOpcode(x, y, z), 1e-10);
+  }
+}
+
+TEST(VmModel, FixtureModelsLoad) {
+  EMBOSS_REQUIRE_FIXTURES(fixtures);
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(fixtures / "vm")) {
+    if (e.path().extension() != ".vm") continue;
+    auto w = VmWorkpiece::open(e.path(), e.path().filename().string(), 1.0, 1.0);
+    EXPECT_TRUE(w.ok()) << w.error();
+    ++n;
+  }
+  EXPECT_GT(n, 0) << "no .vm models in the fixtures";
+}
+
 TEST(VmModel, UnboundedOrEmptyModelsAreRefused) {
   auto half = VmWorkpiece::create(parseOk("x var-x\n"), "half.vm", 1.0, 1.0);
   ASSERT_FALSE(half.ok());
-  EXPECT_NE(half.error().find("unbounded"), std::string::npos) << half.error();
+  EXPECT_NE(half.error().find("the model's inside reaches the edge of the +-1000-unit search box: it is unbounded"),
+            std::string::npos)
+      << half.error();
+  // A 3D half-space below a wavy floor: still refused.
+  auto floor3 = VmWorkpiece::create(parseOk("x var-x\nz var-z\ns sin x\nout sub z s\n"), "floor.vm", 1.0, 1.0);
+  ASSERT_FALSE(floor3.ok());
+  EXPECT_NE(floor3.error().find("unbounded"), std::string::npos) << floor3.error();
   auto inverted = VmWorkpiece::create(parseOk("x var-x\ny var-y\nx2 square x\ny2 square y\ns add x2 y2\n"
                                               "one const 1\nout sub one s\n"),
                                       "inverted.vm", 1.0, 1.0);

@@ -63,7 +63,7 @@ TEST(SceneFile, MalformedFilesGetOneClearMessage) {
   EXPECT_EQ(errorOf(R"({"version":2})"), "piece.json: version: this program reads version 1 scenes, the file says 2.0");
   EXPECT_EQ(errorOf(R"({"deformation":"rubber"})"), "piece.json: deformation: must be \"sheet\" or \"offset\", not \"rubber\"");
   EXPECT_EQ(errorOf(R"({"metal":"gold"})"), "piece.json: metal: unknown metal \"gold\" (copper, brass, silver or aluminium)");
-  EXPECT_EQ(errorOf(R"({"workpiece":{"type":"plate","w":10,"h":-1,"d":0.5}})"), "piece.json: workpiece.h: must be a positive number (mm)");
+  EXPECT_EQ(errorOf(R"({"workpiece":{"type":"plate","w":10,"h":-1,"d":0.5}})"), "piece.json: workpiece.h: -1 is out of range: 0.001 to 2000 mm");
   EXPECT_EQ(errorOf(R"({"workpiece":{"type":"cube"}})"), "piece.json: workpiece.type: unknown workpiece \"cube\" (plate, disc, bowl or vm)");
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"punch","a":1,"at":[0,0,0]},{"op":"punch","a":"big","at":[0,0,0]}]})"),
             "piece.json: operations[1].a: must be a number, not string");
@@ -82,6 +82,41 @@ TEST(SceneFile, MalformedFilesGetOneClearMessage) {
   EXPECT_EQ(errorOf(R"({"version":1e999})"), "piece.json: not valid JSON: number overflow parsing '1e999'");
   EXPECT_EQ(errorOf("[1,2]"), "piece.json: (top level): must be a JSON object");
   EXPECT_EQ(errorOf(""), "piece.json:1:1: not valid JSON: syntax error while parsing value - unexpected end of input; expected '[', '{', or a literal");
+}
+
+// Every number is checked against a physical range; the message names the operation, the key and
+// the value (a punch of 1e308 mm used to render without a word).
+TEST(SceneFile, NumbersOutOfTheirPhysicalRangeAreNamed) {
+  const auto op = [](const std::string& o) { return errorOf(R"({"operations":[{"op":"punch","a":1,"at":[0,0,0]},)" + o + "]}"); };
+  EXPECT_EQ(op(R"({"op":"punch","a":1e308,"at":[0,0,0]})"), "piece.json: operations[1].a: 1e+308 is out of range: 0.001 to 2000 mm");
+  EXPECT_EQ(op(R"({"op":"punch","a":1,"at":[0,3000,0]})"), "piece.json: operations[1].at[1]: 3000 is out of range: -2000 to 2000 mm");
+  EXPECT_EQ(op(R"({"op":"punch","a":1,"q":1e6,"at":[0,0,0]})"), "piece.json: operations[1].q: 1e+06 is out of range: 0.001 to 1000");
+  EXPECT_EQ(op(R"({"op":"punch","a":1,"p":-5000,"at":[0,0,0]})"), "piece.json: operations[1].p: -5000 is out of range: -1000 to 1000");
+  // The fuzzer's press path: coordinates far beyond any sheet.
+  EXPECT_EQ(op(R"({"op":"press","a":1,"points":[[0,0],[1.37778e36,0]]})"),
+            "piece.json: operations[1].points[1][0]: 1.37778e+36 is out of range: -2000 to 2000 mm");
+  // In range, but a path too long for its punch spacing.
+  EXPECT_EQ(op(R"({"op":"press","a":0.001,"q":1000,"points":[[-2000,-2000],[2000,2000]]})"),
+            "piece.json: operations[1].points: the path needs 7.15542e+08 punches at a spacing of 7.90569e-06 mm, at most 100000");
+  EXPECT_EQ(op(R"({"op":"trace","a":1,"points":[[0,0]],"join_end":{"dir":[1,0],"r":1e9}})"),
+            "piece.json: operations[1].join_end.r: 1e+09 is out of range: 1e-06 to 2000 mm");
+  EXPECT_EQ(op(R"({"op":"region","contour":[[0,0],[1,0],[0,1]],"height":-2500,"falloff":1})"),
+            "piece.json: operations[1].height: -2500 is out of range: -2000 to 2000 mm");
+  EXPECT_EQ(op(R"({"op":"region","contour":[[0,0],[1,0],[0,1]],"height":1,"falloff":1e-9})"),
+            "piece.json: operations[1].falloff: 1e-09 is out of range: 0.001 to 2000 mm");
+  EXPECT_EQ(op(R"({"op":"blend_union","tool":{"type":"sphere","center":[0,0,0],"r":5000},"a1":1,"a2":1,"a3":1})"),
+            "piece.json: operations[1].tool.r: 5000 is out of range: 0.001 to 2000 mm");
+  EXPECT_EQ(op(R"({"op":"subtract","tool":{"type":"flat","center":[0,0,0],"size":[1,1,4001]}})"),
+            "piece.json: operations[1].tool.size[2]: 4001 is out of range: 0.001 to 2000 mm");
+  EXPECT_EQ(op(R"({"op":"blend_subtract","tool":{"type":"sphere","center":[0,0,0],"r":1},"a1":1,"a2":1,"a3":3000})"),
+            "piece.json: operations[1].a3: 3000 is out of range: 0.001 to 2000 mm");
+  EXPECT_EQ(errorOf(R"({"workpiece":{"type":"disc","r":1e308,"d":1}})"), "piece.json: workpiece.r: 1e+308 is out of range: 0.001 to 2000 mm");
+  EXPECT_EQ(errorOf(R"({"workpiece":{"type":"vm","file":"m.vm","scale":1e5}})"),
+            "piece.json: workpiece.scale: 100000 is out of range: 1e-06 to 2000 mm per unit");
+  EXPECT_EQ(errorOf(R"({"camera":{"eye":[0,0,1e9]}})"), "piece.json: camera.eye[2]: 1e+09 is out of range: -200000 to 200000 mm");
+  EXPECT_EQ(errorOf(R"({"camera":{"fov_deg":500}})"), "piece.json: camera.fov_deg: must be between 1 and 170 degrees");
+  // The edges of the ranges are inside.
+  EXPECT_TRUE(parse(R"({"workpiece":{"type":"plate","w":2000,"h":0.001,"d":1},"operations":[{"op":"punch","a":2000,"p":-1000,"q":0.001,"at":[-2000,2000,0]}]})"));
 }
 
 TEST(SceneFile, MissingFileSaysSo) {
