@@ -19,6 +19,7 @@
 #include "input/hidrecord.h"
 #include "pen_probe.h"
 #include "pen_replay.h"
+#include "version.h"
 
 namespace {
 
@@ -151,6 +152,7 @@ int main(int argc, char** argv) {
                "Samples print one a line: time x y pressure tip in_range (x, y, pressure 0..1; tip, in_range 0/1).\n"
                "Exit codes: 0 ok, 1 failure, 2 bad usage."};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("emboss-input ") + emboss::versionString());
 
   std::string descriptorFile;
   auto* describeCmd = app.add_subcommand(
@@ -183,6 +185,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e) == 0 ? kExitOk : kExitUsage;
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e) == 0 ? kExitOk : kExitUsage;
   } catch (const CLI::ParseError& e) {
     app.exit(e);

@@ -31,6 +31,7 @@
 #include "pen_replay.h"
 #include "pieces/pieces.h"
 #include "system_notify.h"
+#include "version.h"
 
 namespace fs = std::filesystem;
 using namespace emboss;
@@ -39,6 +40,9 @@ namespace {
 
 volatile sig_atomic_t gStop = 0;
 void onSignal(int) { gStop = 1; }
+
+// Where the package installs the configuration (the unit passes it with --config).
+constexpr const char* kDefaultConfig = "/etc/emboss/kiosk.conf";
 
 void logLine(const std::string& line) { std::fprintf(stderr, "emboss-kiosk: %s\n", line.c_str()); }
 
@@ -99,7 +103,14 @@ int main(int argc, char** argv) {
   cli.add_option("--snapshot", snapshot, "Write the last frame (overlay included) to OUT.png at exit");
   cli.add_option("--session-out", sessionOut, "Write the visitor's session as a scene file at exit");
   cli.add_flag("--fast", fast, "Feed the --tablet=evemu: recording as fast as possible, then exit 0");
-  cli.add_option("--config", configPath, "A key = value configuration file (see firmware-app/kiosk.conf)");
+  cli.add_option("--config", configPath, "A key = value configuration file (installed as " + std::string(kDefaultConfig) + ")");
+  std::string checkConfigPath;
+  auto* checkConfig = cli.add_option("--check-config", checkConfigPath,
+                                     "Check a configuration strictly (default: the --config file, else " +
+                                         std::string(kDefaultConfig) + "), name each bad line as FILE:LINE: message, "
+                                         "exit 0 when it is good and 1 when not; the kiosk does not start")
+                          ->expected(0, 1);
+  cli.set_version_flag("--version", std::string("emboss-kiosk ") + versionString());
   cli.add_option("--size", size, "Picture size WxH for headless, osmesa and x11 (default 1280x800)");
   cli.add_flag("--stats", stats, "Print frames per second and stroke-to-screen latency at exit");
   cli.add_option("--sessions-dir", sessionsDir, "Where visitors' sessions are saved");
@@ -117,6 +128,17 @@ int main(int argc, char** argv) {
     return cli.exit(e) == 0 ? 0 : 2;
   }
   if (!writePiecesDir.empty()) return writePieces(writePiecesDir);
+  if (checkConfig->count() > 0) {
+    const fs::path file = !checkConfigPath.empty() ? checkConfigPath : !configPath.empty() ? configPath : kDefaultConfig;
+    const auto problems = checkKioskConfigFile(file);
+    for (const auto& p : problems) std::fprintf(stderr, "%s\n", p.c_str());
+    if (!problems.empty()) {
+      std::fprintf(stderr, "emboss-kiosk: %s: %zu problem%s\n", file.c_str(), problems.size(), problems.size() == 1 ? "" : "s");
+      return 1;
+    }
+    std::printf("%s: ok\n", file.c_str());
+    return 0;
+  }
 
   try {
     // ---- configuration: the file, then the command line

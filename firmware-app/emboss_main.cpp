@@ -5,17 +5,21 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"emboss: virtual metal embossing (F-rep model of Sourin 2001, CPU ray tracing)"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Every subcommand's help");
+  app.set_version_flag("--version", std::string("emboss ") + emboss::versionString());
   emboss::cli::Commands commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);

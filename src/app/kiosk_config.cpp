@@ -1,9 +1,11 @@
 // Reading the kiosk's key = value configuration, forgiving line by line.
 #include "app/kiosk_config.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -28,6 +30,17 @@ bool toNumber(const std::string& s, double& out) {
   out = v;
   return true;
 }
+
+// The line without its comment: '#' starts one at the start of the line or after a blank, so a
+// '#' inside a value (a path, a key name) stays part of it.
+std::string stripComment(const std::string& line) {
+  for (std::size_t i = 0; i < line.size(); ++i)
+    if (line[i] == '#' && (i == 0 || line[i - 1] == ' ' || line[i - 1] == '\t')) return line.substr(0, i);
+  return line;
+}
+
+// Where each key was last set (line numbers, 1-based); only for checkKioskConfig.
+using KeyLines = std::map<std::string, std::vector<int>>;
 
 }  // namespace
 
@@ -58,8 +71,10 @@ std::map<std::string, Action> defaultKeyMap() {
   };
 }
 
-KioskConfig parseKioskConfig(const std::string& text, const std::string& name, KioskConfig c,
-                             std::vector<std::string>& warnings) {
+namespace {
+
+KioskConfig parseLines(const std::string& text, const std::string& name, KioskConfig c,
+                       std::vector<std::string>& warnings, KeyLines* keyLines) {
   std::istringstream in(text);
   std::string line;
   int lineNo = 0;
@@ -73,8 +88,7 @@ KioskConfig parseKioskConfig(const std::string& text, const std::string& name, K
   };
   while (std::getline(in, line)) {
     ++lineNo;
-    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-    line = trim(line);
+    line = trim(stripComment(line));
     if (line.empty()) continue;
     const auto eq = line.find('=');
     if (eq == std::string::npos) {
@@ -82,6 +96,7 @@ KioskConfig parseKioskConfig(const std::string& text, const std::string& name, K
       continue;
     }
     const std::string key = trim(line.substr(0, eq)), v = trim(line.substr(eq + 1));
+    if (keyLines) (*keyLines)[key].push_back(lineNo);
     if (key == "display") {
       if (v == "auto" || v == "kms" || v == "x11" || v == "headless" || v == "osmesa") c.display = v;
       else warn("display must be auto, kms, x11, headless or osmesa, not '" + v + "'");
@@ -148,6 +163,47 @@ KioskConfig parseKioskConfig(const std::string& text, const std::string& name, K
     }
   }
   return c;
+}
+
+}  // namespace
+
+KioskConfig parseKioskConfig(const std::string& text, const std::string& name, KioskConfig c,
+                             std::vector<std::string>& warnings) {
+  return parseLines(text, name, std::move(c), warnings, nullptr);
+}
+
+std::vector<std::string> checkKioskConfig(const std::string& text, const std::string& name) {
+  std::vector<std::string> problems;
+  KeyLines lines;
+  const KioskConfig c = parseLines(text, name, KioskConfig{}, problems, &lines);
+  auto at = [&](const std::string& key) { return name + ":" + std::to_string(lines[key].back()) + ": "; };
+  for (const auto& [key, seen] : lines)
+    for (std::size_t i = 1; i < seen.size(); ++i)
+      problems.push_back(name + ":" + std::to_string(seen[i]) + ": " + key + " is set again (first on line " +
+                         std::to_string(seen[0]) + "); the last one wins");
+  // Paths the kiosk would only find missing at run time (and then go on without).
+  auto mustExist = [&](const std::string& key, const std::filesystem::path& path, const char* what) {
+    std::error_code ec;
+    if (lines.count(key) && !std::filesystem::exists(path, ec))
+      problems.push_back(at(key) + key + ": " + what + " " + path.string() + " does not exist");
+  };
+  if (c.buttons != "auto" && c.buttons != "none") mustExist("buttons", c.buttons, "the buttons file");
+  if (c.tablet.rfind("evemu:", 0) == 0) mustExist("tablet", c.tablet.substr(6), "the recording");
+  if (c.camera.rfind("file:", 0) == 0) mustExist("camera", c.camera.substr(5), "the picture");
+  if (!c.piecesDir.empty()) mustExist("pieces_dir", c.piecesDir, "the folder");
+  std::stable_sort(problems.begin(), problems.end(), [&](const std::string& a, const std::string& b) {
+    auto lineOf = [&](const std::string& p) { return std::atoi(p.c_str() + name.size() + 1); };
+    return lineOf(a) < lineOf(b);
+  });
+  return problems;
+}
+
+std::vector<std::string> checkKioskConfigFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {path.string() + ": cannot read the config (" + std::strerror(errno) + ")"};
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return checkKioskConfig(ss.str(), path.string());
 }
 
 KioskConfig loadKioskConfig(const std::filesystem::path& path, KioskConfig base, std::vector<std::string>& warnings) {

@@ -45,6 +45,14 @@ KioskConfig parseKioskConfig(const std::string& text, const std::string& name, K
 // Reads a file; a missing or unreadable file is one warning and `base` unchanged.
 KioskConfig loadKioskConfig(const std::filesystem::path& path, KioskConfig base, std::vector<std::string>& warnings);
 
+// The strict reading `emboss-kiosk --check-config` does: every line parseKioskConfig would warn
+// about, a key set twice, and a file or folder the config names that does not exist (buttons,
+// an evemu: recording, a file: camera still, pieces_dir). Each problem is "NAME:LINE: message";
+// none means the config is good.
+std::vector<std::string> checkKioskConfig(const std::string& text, const std::string& name);
+// The same for a file; an unreadable file is one problem.
+std::vector<std::string> checkKioskConfigFile(const std::filesystem::path& path);
+
 // "1280x800" -> 1280, 800 (each 16..16384). False when malformed.
 bool parseSizeWxH(const std::string& s, int& w, int& h);
 // Whether s names a camera as the `camera` key and --camera take it: auto, none, /dev/videoN or
