@@ -3,8 +3,8 @@
 #
 #   platform/image/build-image.sh [--arch amd64|arm64] [--deb FILE | --build-dir DIR] [-o OUT_DIR]
 #
-#   --deb FILE        the emboss package to install (default: platform/debian/make-deb.sh BUILD_DIR)
-#   --build-dir DIR   the CMake build tree make-deb.sh packages (default: build)
+#   --deb FILE        the emboss package to install (default: made by platform/debian/make-deb.sh)
+#   --build-dir DIR   the build tree make-deb.sh uses for it (its own Release build; default its build-deb)
 #   --arch A          amd64 (a PC kiosk; default) or arm64 (Raspberry Pi 4/5, built through qemu-user)
 #   -o OUT_DIR        where emboss-ARCH.img (and .bmap) go (default: OUT_DIR=out/image)
 #   --data-size SIZE  the sessions partition (default 512M; e.g. 2G)
@@ -29,7 +29,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 src=$(cd "$here/../.." && pwd)
 arch=amd64
 deb=""
-build_dir=build
+build_dir=""
 out_dir=out/image
 data_size=512M
 base_only=0
@@ -94,7 +94,8 @@ suite=bookworm
 if [ "$base_only" = 0 ] && [ -z "$deb" ]; then
   [ -x "$src/platform/debian/make-deb.sh" ] || [ -f "$src/platform/debian/make-deb.sh" ] ||
     die "no --deb given and no platform/debian/make-deb.sh to make one"
-  deb=$(bash "$src/platform/debian/make-deb.sh" "$build_dir" | tail -1) || die "make-deb.sh failed"
+  log "making the .deb with platform/debian/make-deb.sh ${build_dir}"
+  deb=$(bash "$src/platform/debian/make-deb.sh" ${build_dir:+"$build_dir"} | tail -1) || die "make-deb.sh failed"
 fi
 if [ -n "$deb" ]; then
   [ -f "$deb" ] || die "no such .deb: $deb"
@@ -108,16 +109,17 @@ fi
 # the KMS display, llvmpipe where there is no GPU driver), the clock over the network, fsck.
 packages=(systemd-sysv udev kmod e2fsprogs dosfstools initramfs-tools zstd
   systemd-timesyncd systemd-resolved libnss-resolve
-  libgl1-mesa-dri libegl1 libgbm1 libgles2)
+  libgl1-mesa-dri libegl1 libegl-mesa0 libgbm1 libgles2)
+# What the .deb depends on (its Depends: as CPack's shlibdeps writes them, and the font of the
+# overlay), so that installing it needs no network. Listed here rather than read from the .deb:
+# a new build of the .deb then reuses the cached base. A dependency missing here is named when the
+# .deb is installed.
+packages+=(libc6 libgcc-s1 libstdc++6 libdrm2 libosmesa6 libx11-6 libevdev2 libudev1 libsystemd0
+  libgpiod2 libhidapi-hidraw0 libusb-1.0-0 libpng16-16 libjpeg62-turbo libfreetype6 fonts-dejavu-core)
 case "$arch" in
   amd64) packages+=(linux-image-amd64 systemd-boot-efi) ;;
   arm64) packages+=(linux-image-arm64 raspi-firmware) ;;
 esac
-# Every package the .deb depends on comes from the base, so installing the .deb needs no network.
-if [ -n "$deb" ]; then
-  while read -r p; do [ -n "$p" ] && packages+=("$p"); done < <(
-    { dpkg-deb -f "$deb" Pre-Depends; dpkg-deb -f "$deb" Depends; } | tr ',' '\n' | sed -e 's/|.*//' -e 's/(.*)//' -e 's/:any//' -e 's/[[:space:]]//g' | grep -v '^$')
-fi
 mapfile -t packages < <(printf '%s\n' "${packages[@]}" | sort -u)
 
 build_base() {  # build_base OUT.tar: mmdebstrap into a tar; its text is part of the base's cache key
@@ -147,7 +149,7 @@ else
   fi
   mv "$base_tar.part.$$" "$base_tar"
   # Older bases of this architecture are of no use any more.
-  find "$cache" -maxdepth 1 -name "base-$arch-*.tar" ! -name "$(basename "$base_tar")" -delete
+  find "$cache" -maxdepth 1 -name "base-$arch-*" ! -name "$(basename "$base_tar" .tar).*" -delete
   log "base built in $((SECONDS - t0)) s: $(du -h "$base_tar" | cut -f1)"
 fi
 [ "$base_only" = 1 ] && { echo "$base_tar"; exit 0; }
@@ -184,6 +186,8 @@ mount -t proc proc "$root/proc" 2>/dev/null && proc_mounted=1 || proc_mounted=0
 trap '[ "$proc_mounted" = 1 ] && umount "$root/proc"; rm -rf "$work"' EXIT
 if ! chroot "$root" env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin DEBIAN_FRONTEND=noninteractive dpkg -i /tmp/emboss.deb > "$work/dpkg.log" 2>&1; then
   cat "$work/dpkg.log" >&2
+  missing=$(sed -n 's/^ *Package \(.*\) is not installed\./\1/p' "$work/dpkg.log" | sort -u | tr '\n' ' ')
+  [ -n "$missing" ] && die "the .deb depends on $missing, which the base lacks: add them to the package list in build-image.sh"
   die "installing the .deb in the image failed"
 fi
 rm -f "$root/tmp/emboss.deb"
@@ -266,10 +270,10 @@ esac
 root_used=$(du -sb --apparent-size "$root" | cut -f1)
 root_mib=$(( $(mib "$root_used") * 5 / 4 + 64 ))
 data_mib=$(mib "$(to_bytes "$data_size")")
-mkfs.ext4 -q -F -L emboss-root -U clear -E root_owner=0:0 -d "$root" "$work/root.ext4" "${root_mib}M" || die "mkfs.ext4 of the root failed"
+mkfs.ext4 -q -F -L emboss-root -U clear -E root_owner=0:0 -d "$root" "$work/root.ext4" "${root_mib}M" > /dev/null || die "mkfs.ext4 of the root failed"
 tune2fs -c 0 -i 0 "$work/root.ext4" >/dev/null
 mkdir -p "$work/data"
-mkfs.ext4 -q -F -L emboss-data -d "$work/data" "$work/data.ext4" "${data_mib}M" || die "mkfs.ext4 of the data partition failed"
+mkfs.ext4 -q -F -L emboss-data -d "$work/data" "$work/data.ext4" "${data_mib}M" > /dev/null || die "mkfs.ext4 of the data partition failed"
 mkfs.vfat -F 32 -n EMBOSS-BOOT -C "$work/esp.vfat" $((esp_mib * 1024)) >/dev/null || die "mkfs.vfat failed"
 MTOOLS_SKIP_CHECK=1 mcopy -s -i "$work/esp.vfat" "$esp_dir"/* ::/ || die "mcopy onto the EFI partition failed"
 
