@@ -16,7 +16,7 @@ core="$build/libemboss_core.a"
 for lib in "$plat" "$core"; do
   [ -f "$lib" ] || { echo "build.sh: $lib is missing: build the project first (ninja -C $build emboss_tests emboss-input)" >&2; exit 2; }
 done
-pkgs="hidapi-hidraw libusb-1.0 libgpiod libevdev libudev libsystemd libpng libjpeg"
+pkgs="hidapi-hidraw libusb-1.0 libgpiod libevdev libudev libsystemd libpng libjpeg sqlite3 zlib"
 # The display back ends live in the same archive; link their libraries too when they are there.
 for p in egl glesv2 gbm libdrm osmesa x11 freetype2; do pkg-config --exists "$p" 2>/dev/null && pkgs="$pkgs $p"; done
 cflags=$(pkg-config --cflags $pkgs) || exit 2
