@@ -16,15 +16,6 @@ namespace emboss {
 
 namespace fs = std::filesystem;
 
-std::string fileStamp() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y%m%d-%H%M%S", &tm);
-  return buf;
-}
-
 Status writePngAtomically(const Image& image, const fs::path& path) {
   const fs::path tmp = path.string() + ".part";
   Status s = writePng(image, tmp);

@@ -11,6 +11,7 @@
 #include "app/kiosk_log.h"
 #include "render/image.h"
 #include "scene/scene.h"
+#include "util/file_stamp.h"
 
 namespace emboss {
 
@@ -72,8 +73,6 @@ class SessionStore {
   std::string lastError_;
 };
 
-// A file stamp for now, local time: 20250314-153012.
-std::string fileStamp();
 // PNG written through a temporary file and a rename.
 Status writePngAtomically(const Image& image, const std::filesystem::path& path);
 

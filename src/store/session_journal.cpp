@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "util/file_stamp.h"
+
 namespace emboss {
 
 namespace fs = std::filesystem;
@@ -49,15 +51,6 @@ class Stmt {
   sqlite3_stmt* s_ = nullptr;
   int rc_ = SQLITE_ERROR;
 };
-
-std::string stamp() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y%m%d-%H%M%S", &tm);
-  return buf;
-}
 
 // What a record's checksum covers: its kind, index and body.
 std::uint32_t recordCrc(const std::string& kind, std::int64_t idx, const std::string& body) {
@@ -146,7 +139,7 @@ void SessionJournal::open() {
 
 bool SessionJournal::salvage(const std::string& why) {
   if (db_) sqlite3_close_v2(db_), db_ = nullptr;
-  const fs::path aside = dir_ / ("sessions.db.corrupt-" + stamp());
+  const fs::path aside = dir_ / ("sessions.db.corrupt-" + fileStamp());
   std::error_code ec;
   fs::rename(path_, aside, ec);
   if (ec) {
