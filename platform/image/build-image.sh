@@ -111,11 +111,16 @@ packages=(systemd-sysv udev kmod e2fsprogs dosfstools initramfs-tools zstd
   systemd-timesyncd systemd-resolved libnss-resolve
   libgl1-mesa-dri libegl1 libegl-mesa0 libgbm1 libgles2)
 # What the .deb depends on (its Depends: as CPack's shlibdeps writes them, and the font of the
-# overlay), so that installing it needs no network. Listed here rather than read from the .deb:
-# a new build of the .deb then reuses the cached base. A dependency missing here is named when the
-# .deb is installed.
+# overlay), so that installing it needs no network. Listed here, and the .deb's own Depends added
+# (the first of each alternative): a dependency already listed leaves the base's key, and so the
+# cached base, as it is; a new one makes a new base.
 packages+=(libc6 libgcc-s1 libstdc++6 libdrm2 libosmesa6 libx11-6 libevdev2 libudev1 libsystemd0
-  libgpiod2 libhidapi-hidraw0 libusb-1.0-0 libpng16-16 libjpeg62-turbo libfreetype6 fonts-dejavu-core)
+  libgpiod2 libhidapi-hidraw0 libusb-1.0-0 libpng16-16 libjpeg62-turbo libfreetype6 fonts-dejavu-core
+  libsqlite3-0 zlib1g)
+if [ -n "$deb" ]; then
+  mapfile -t -O "${#packages[@]}" packages < <(dpkg-deb -f "$deb" Depends | tr ',' '\n' |
+    sed 's/|.*//; s/(.*)//; s/:any//; s/[[:space:]]//g' | grep -v '^$')
+fi
 case "$arch" in
   amd64) packages+=(linux-image-amd64 systemd-boot-efi) ;;
   arm64) packages+=(linux-image-arm64 raspi-firmware) ;;
