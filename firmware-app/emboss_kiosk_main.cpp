@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -33,6 +34,7 @@
 #include "pieces/pieces.h"
 #include "staff_socket.h"
 #include "system_notify.h"
+#include "util/progress_beat.h"
 #include "version.h"
 
 namespace fs = std::filesystem;
@@ -370,6 +372,27 @@ int main(int argc, char** argv) {
       }
     }
     notifier->ready(attractOnly ? "attract mode only" : "attract mode");
+    // The watchdog is fed from a thread of its own while work is being done: turns of this loop and
+    // tiles traced (util/progress_beat.h). A first frame that takes longer than WatchdogSec on a slow
+    // board is then not taken for a hang; a stuck loop (nothing moves) or a stopped process still is.
+    struct Feeder {
+      std::atomic_bool stop{false};
+      std::thread thread;
+      ~Feeder() {
+        stop = true;
+        if (thread.joinable()) thread.join();
+      }
+    } feeder;
+    if (const double wd = notifier->watchdogSeconds(); wd > 0) {
+      feeder.thread = std::thread([&, wd] {
+        WatchdogFeeder due(wd / 4);
+        while (!feeder.stop.load()) {
+          const double now = monotonicSeconds();
+          if (due.due(progressBeats().load(std::memory_order_relaxed), now)) notifier->alive(now);
+          std::this_thread::sleep_for(std::chrono::milliseconds(250));
+        }
+      });
+    }
     std::string lastStatus;
     const double t0 = monotonicSeconds();
     double lastProbe = t0, lastDisplayTry = t0, lastCameraProbe = t0, lastGpioProbe = t0;
@@ -396,7 +419,7 @@ int main(int argc, char** argv) {
       if (staffSocket)
         staffSocket->poll([&](const std::string& line) { return app.staffCommand(line); }, [&] { return app.staffPoll(); });
       const double now = monotonicSeconds();
-      notifier->alive(now);
+      progressBeat();
       // STATUS= in systemctl status: what the kiosk is doing now.
       if (std::string st = app.statusLine(); st != lastStatus) {
         notifier->status(st);
@@ -475,6 +498,8 @@ int main(int argc, char** argv) {
       }
     }
     if (gStop) logLine("stopping (signal)");
+    feeder.stop = true;
+    if (feeder.thread.joinable()) feeder.thread.join();
     notifier->stopping();
     app.finish();
     int rc = 0;

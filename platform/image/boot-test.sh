@@ -12,6 +12,7 @@
 #                           else the checkout's build/)
 #   EMBOSS_FIXTURES=DIR     the fixtures (default: ../shared/fixtures beside the checkout)
 #   EMBOSS_BOOT_TEST_VERBOSE=1  echo the guest's serial console at the end
+#   EMBOSS_BOOT_TEST_KEEP=DIR   keep the consoles, the guest's journals and the screendumps there
 # Exit codes: 0 every check passed, 1 a check failed, 2 bad usage, 77 cannot run here (no qemu and
 # not root to install it, no fixtures, no image and none can be built).
 #
@@ -29,7 +30,7 @@ trap '' PIPE
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 src=$(cd "$here/../.." && pwd)
-[ $# -eq 1 ] || { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -eq 1 ] || { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 target=$1
 
 say() { echo "boot-test: $*" >&2; }
@@ -82,6 +83,9 @@ job=$(mktemp -d "$cache/jobs/boot.XXXXXX")
 qpid=""
 cleanup() {
   [ -n "$qpid" ] && kill "$qpid" 2>/dev/null
+  # EMBOSS_BOOT_TEST_KEEP=DIR keeps the consoles, the guest's journals and the screendumps.
+  [ -n "${EMBOSS_BOOT_TEST_KEEP:-}" ] && mkdir -p "$EMBOSS_BOOT_TEST_KEEP" &&
+    cp "$job"/*.log "$job"/*.ppm "$EMBOSS_BOOT_TEST_KEEP"/ 2>/dev/null
   exec 6>&- 7>&- 2>/dev/null
   wait 2>/dev/null
   rm -rf "$job"
@@ -110,7 +114,8 @@ dd if="$disk" of="$job/root.ext4" bs=512 skip="$root" count="$(sfdisk -d "$disk"
 exec_start=$(for f in /lib/systemd/system/emboss-kiosk.service /usr/lib/systemd/system/emboss-kiosk.service; do
   debugfs -R "cat $f" "$job/root.ext4" 2>/dev/null; done | sed -n 's/^ExecStart=//p' | head -1)
 [ -n "$exec_start" ] || { say "the image has no emboss-kiosk.service with an ExecStart="; exit 1; }
-printf '# Test only (boot-test.sh): the staff buttons on the emulated CP2112.\n[Service]\nExecStart=\nExecStart=%s --buttons=/usr/local/lib/emboss-test/buttons.json\n' "$exec_start" > "$job/buttons.conf"
+# --log-level=debug: the journal's "journal: stroke N durable" lines, which the power cut checks.
+printf '# Test only (boot-test.sh): the staff buttons on the emulated CP2112; the durable strokes logged.\n[Service]\nExecStart=\nExecStart=%s --buttons=/usr/local/lib/emboss-test/buttons.json --log-level=debug\n' "$exec_start" > "$job/buttons.conf"
 debugfs -w -f - "$job/root.ext4" > "$job/debugfs.log" 2>&1 <<EOF
 mkdir /usr/local/lib/emboss-test
 write "$layer/agent.sh" /usr/local/lib/emboss-test/agent.sh
@@ -162,7 +167,7 @@ agent() {
   local limit=$1 id
   shift
   id="c$(date +%s%N)"  # unique even from the subshells of $(agent ...)
-  printf '%s %s\n' "$id" "$(printf '%s' "$*" | base64 -w0)" >&6 || return 124
+  printf '%s %s %s\n' "$id" "$limit" "$(printf '%s' "$*" | base64 -w0)" >&6 || return 124
   local end=$((SECONDS + limit)) line
   while [ $SECONDS -lt $end ]; do
     line=$(grep -a "^EMBOSS-AGENT-END $id " "$job/agent.log")
@@ -204,6 +209,9 @@ check() {  # check NAME OK(0|1) DETAIL
   [ "$2" = 0 ] || { mark=FAIL; fails=$((fails + 1)); }
   results+=("$(printf '%-4s  %-34s %s' "$mark" "$1" "$3")")
   say "$mark $1: $3"
+  # A failure shows the kiosk's last lines (all its runs this boot), to find the cause from the log.
+  [ "$mark" = PASS ] || agent 20 "journalctl -b -u emboss-kiosk -o short-monotonic --no-pager | tail -12
+    journalctl -b -u 'emboss-test-*' -o short-monotonic --no-pager | tail -6" | sed 's/^/boot-test:   | /' >&2
 }
 # The kiosk's log of its current invocation (the unit restarts it during the test), in the guest.
 KJ='journalctl -b -o cat _SYSTEMD_INVOCATION_ID=$(systemctl show -p InvocationID --value emboss-kiosk)'
@@ -221,7 +229,7 @@ wait_active() {  # wait_active SECONDS: the unit active and running (READY=1 rec
 }
 # Seconds from the kiosk process's start (this invocation) to its 'first frame on the screen' line.
 first_frame_wait() {  # first_frame_wait SECONDS: waits for this invocation's first frame; prints the line
-  agent $(($1 + 10)) "for i in \$(seq $(($1 * 2))); do
+  agent $(($1 + 10)) "e=\$((SECONDS + $1)); while [ \$SECONDS -lt \$e ]; do
       id=\$(systemctl show -p InvocationID --value emboss-kiosk)
       l=\$(journalctl -b -o short-monotonic _SYSTEMD_INVOCATION_ID=\$id 2>/dev/null | grep -m1 'first frame on the screen') && { echo \"\$l\"; exit 0; }
       sleep 0.5; done; exit 1"
@@ -246,7 +254,7 @@ check "unit active (READY=1 from the kiosk)" $ok "$s"
 ff=$(first_frame_wait 150)
 check "kiosk: first frame on the screen" "$([ -n "$ff" ] && echo 0 || echo 1)" "${ff:-none within 150 s}"
 ff_boot1=$(echo "$ff" | sed -n 's/^\[ *\([0-9.]*\)\].*/\1/p')
-user=$(agent 20 "ps -o user= -p $pid")
+user=$(agent 20 "stat -c %U /proc/$pid")
 check "kiosk runs as emboss-kiosk" "$([ "$user" = emboss-kiosk ] && echo 0 || echo 1)" "user of PID $pid: ${user:-?}"
 devs=$(agent 20 "ls -l /proc/$pid/fd | sed -n 's:.* -> \\(/dev/.*\\):\\1:p' | sort -u | tr '\n' ' '")
 bad=$(echo "$devs" | tr ' ' '\n' | grep -v '^$' | grep -Ev '^/dev/(null|dri/card[0-9]+|dri/renderD[0-9]+|input/event[0-9]+|hidraw[0-9]+|bus/usb/.*|gpiochip[0-9]+|video[0-9]+)$')
@@ -264,7 +272,7 @@ check "screen: attract mode moves" "$([ "$(lit "$a")" -gt 1000 ] && ! cmp -s "$a
 
 # 3. A pen: a uinput tablet replaying the recording; the kiosk takes it and leaves attract mode.
 agent 20 "modprobe uinput; systemd-run --quiet --unit=emboss-test-pen /usr/local/lib/emboss-test/uinput_play /usr/local/lib/emboss-test/pen.events --before 4 --frame 0.005 --after 2" > /dev/null
-st=$(agent 60 "for i in \$(seq 100); do $KJ | grep -m1 'state: visitor-arrived' && exit 0; sleep 0.5; done; exit 1")
+st=$(agent 60 "e=\$((SECONDS + 50)); while [ \$SECONDS -lt \$e ]; do $KJ | grep -m1 'state: visitor-arrived' && exit 0; sleep 0.5; done; exit 1")
 agent 60 "while systemctl is-active -q emboss-test-pen; do sleep 0.5; done" > /dev/null
 sleep 3
 c=$(screendump); sleep 3; d=$(screendump)
@@ -279,24 +287,24 @@ check "screen: the stroke shows" "$(! cmp -s "$b" "$c" && cmp -s "$c" "$d" && ec
 # the menu to "Export sessions" (1), choose (2), back to the exhibit (3).
 gp=$(agent 30 "modprobe uhid; modprobe hid-cp2112; mkfifo /run/emboss-test-buttons
   systemd-run --quiet --unit=emboss-test-buttons /usr/local/lib/emboss-test/cp2112_buttons /run/emboss-test-buttons
-  for i in \$(seq 60); do l=\$($KJ | grep -m1 'buttons: back') && { echo \"\$l\"; exit 0; }; sleep 0.5; done; exit 1")
+  e=\$((SECONDS + 30)); while [ \$SECONDS -lt \$e ]; do l=\$($KJ | grep -m1 'buttons: back') && { echo \"\$l\"; exit 0; }; sleep 0.5; done; exit 1")
 check "staff: the kiosk opens the buttons" $? "${gp:-no 'buttons: back' line}"
 press() { agent 20 "echo 'press $1 0.4' > /run/emboss-test-buttons; sleep 1.5" > /dev/null; }
 press 0; press 1; press 2
-ex=$(agent 60 "for i in \$(seq 100); do l=\$($KJ | grep -m1 'staff: ') && { echo \"\$l\"; exit 0; }; sleep 0.5; done; exit 1")
+ex=$(agent 90 "e=\$((SECONDS + 80)); while [ \$SECONDS -lt \$e ]; do l=\$($KJ | grep -m1 'staff: .*\(Exported\|export done\|export failed\|[Nn]o stick\|cannot\)') && { echo \"\$l\"; exit 0; }; sleep 0.5; done; exit 1")
 press 3
 agent 30 "sync; for u in \$(systemctl list-units --plain --no-legend 'emboss-export-mount@*' | cut -d' ' -f1); do systemctl stop \$u; done" > /dev/null
 files=$(mdir -i "$job/stick.img" -/ -b :: 2>/dev/null | grep -c '\.json$')
 one=$(mdir -i "$job/stick.img" -/ -b :: 2>/dev/null | grep '\.json$' | head -1)
 [ -n "$one" ] && mcopy -n -i "$job/stick.img" "$one" "$job/exported.json" 2>/dev/null
-check "staff export reaches the USB stick" "$(echo "$ex" | grep -q 'Exported' && [ "$files" -gt 0 ] && grep -q '"operations"' "$job/exported.json" 2>/dev/null && echo 0 || echo 1)" \
+check "staff export reaches the USB stick" "$(echo "$ex" | grep -q 'Exported\|export done' && [ "$files" -gt 0 ] && grep -q '"operations"' "$job/exported.json" 2>/dev/null && echo 0 || echo 1)" \
   "${ex:-no staff line}; on the stick (mtools): $files .json files${one:+, ${one#::}}"
 
 # 5. The watchdog: a stopped kiosk is killed and started again by systemd.
 wd=$(agent 20 "systemctl show -p WatchdogUSec --value emboss-kiosk")
 s=$(show); pid=$(prop "$s" MainPID); nr=$(prop "$s" NRestarts)
 r=$(agent 120 "t0=\$(cut -d' ' -f1 /proc/uptime); kill -STOP $pid
-  for i in \$(seq 200); do p=\$(systemctl show -p MainPID --value emboss-kiosk); [ \"\$p\" != $pid ] && [ \"\$p\" != 0 ] && break; sleep 0.5; done
+  e=\$((SECONDS + 100)); while [ \$SECONDS -lt \$e ]; do p=\$(systemctl show -p MainPID --value emboss-kiosk); [ \"\$p\" != $pid ] && [ \"\$p\" != 0 ] && break; sleep 0.5; done
   t1=\$(cut -d' ' -f1 /proc/uptime); echo \"\$p \$(awk \"BEGIN{print \$t1 - \$t0}\")\"")
 newpid=${r%% *}; took=${r##* }
 wd_s=$(echo "$wd" | sed -n 's/^\([0-9]*\)s$/\1/p')
@@ -326,9 +334,14 @@ kff=$(echo "$ff" | sed -n 's/^\[ *\([0-9.]*\)\].*/\1/p')
 agent 20 "systemd-run --quiet --unit=emboss-test-pen2 /usr/local/lib/emboss-test/uinput_play /usr/local/lib/emboss-test/pen.events --before 3 --frame 0.005 --loop;
   echo 'written before the power cut' > /var/lib/emboss-kiosk/.boot-test-marker; sync
   systemd-run --quiet --unit=emboss-test-writer sh -c 'i=0; while :; do i=\$((i+1)); dd if=/dev/urandom of=/var/lib/emboss-kiosk/.boot-test-w\$((i % 50)) bs=4k count=16 conv=fsync status=none; done'" > /dev/null
-vis=$(agent 60 "for i in \$(seq 100); do $KJ | grep -m1 'state: visitor-arrived' && exit 0; sleep 0.5; done; exit 1")
+vis=$(agent 60 "e=\$((SECONDS + 50)); while [ \$SECONDS -lt \$e ]; do $KJ | grep -m1 'state: visitor-arrived' && exit 0; sleep 0.5; done; exit 1")
 check "power cut: a visitor's session under way" $? "${vis:-no 'state: visitor-arrived' line}; a writer fsyncing on the sessions partition"
-sleep 3
+# The strokes the kiosk has reported durable: at least one before the cut, the highest one just before it.
+durable() { agent 20 "$KJ | sed -n 's/.*journal: stroke \([0-9]*\) durable.*/\1/p' | sort -n | tail -1"; }
+for _ in $(seq 40); do d=$(durable); [ -n "$d" ] && break; sleep 2; done
+sleep $((RANDOM % 4))
+d=$(durable)
+agent 30 "journalctl -b -o short-monotonic --no-pager" > "$job/journal-$boot_n.log"
 echo quit >&7
 wait "$qpid" 2>/dev/null; qpid=""
 exec 6>&- 7>&-
@@ -340,6 +353,12 @@ if ! wait_agent 300; then
 else
   s=$(wait_active 240); ok=$?
   check "power cut: kiosk active again" $ok "$s"
+  # The session under way comes back (or, if the boot took longer than the idle timeout, is closed
+  # and kept): either way with every stroke reported durable before the cut.
+  back=$(agent 30 "journalctl -b -u emboss-kiosk -o cat | grep -m1 'session: restored\|left unfinished'")
+  n=$(echo "$back" | sed -n 's/.*restored [^:]*: \([0-9]*\) strokes.*/\1/p; s/.*closed and kept (\([0-9]*\) strokes.*/\1/p')
+  check "power cut: durable strokes back" "$([ -n "$d" ] && [ -n "$n" ] && [ "$n" -ge "$d" ] && echo 0 || echo 1)" \
+    "${d:-no} strokes durable before the cut; ${back:-no 'session: restored' line}"
   fsck=$(agent 30 "journalctl -b -o cat -u systemd-fsck-root -u 'systemd-fsck@*' | grep -v '^Finished\|^Starting\|^Started\|^Stopped\|Deactivated' | tr '\n' ' '; echo
     for u in systemd-fsck-root \$(systemctl list-units --all --plain --no-legend 'systemd-fsck@*' | cut -d' ' -f1); do
       echo \"\$u \$(systemctl show -p Result,ExecMainStatus \$u | tr '\n' ' ')\"; done")
@@ -354,6 +373,7 @@ else
   check "power cut: sessions partition readable" "$(echo "$dp" | grep -q ' rw' && echo "$dp" | grep -q 'before the power cut' && echo "$dp" | grep -q 'files read' && echo 0 || echo 1)" "$(echo "$dp" | tr '\n' ' ')"
   ro=$(agent 20 "findmnt -no OPTIONS / | cut -d, -f1; touch /etc/x 2>&1 | sed 's/.*: //'")
   check "root file system read-only" "$(echo "$ro" | head -1 | grep -qx ro && echo "$ro" | grep -qi 'read-only' && echo 0 || echo 1)" "$(echo "$ro" | tr '\n' ' ')"
+  agent 30 "journalctl -b -o short-monotonic --no-pager" > "$job/journal-$boot_n.log"
   agent 20 "systemctl poweroff" > /dev/null
   timeout 120 tail --pid="$qpid" -f /dev/null
 fi

@@ -64,6 +64,7 @@ command -v bmaptool >/dev/null || need+=(bmap-tools)
 if [ "$arch" != "$(dpkg --print-architecture)" ]; then
   command -v qemu-aarch64-static >/dev/null || need+=(qemu-user-static)
   command -v update-binfmts >/dev/null || need+=(binfmt-support)
+  command -v arch-test >/dev/null || need+=(arch-test)  # mmdebstrap checks the foreign architecture runs
 fi
 if [ ${#need[@]} -gt 0 ]; then
   [ "$(id -u)" = 0 ] || { log "need ${need[*]} (apt-get install ${need[*]}); not root, so cannot install them"; exit 77; }

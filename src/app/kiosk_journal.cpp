@@ -96,7 +96,7 @@ void KioskApp::restoreSession(double now) {
     journal_->endSession(js->id);
     if (log_)
       log_("session: " + name + " was left unfinished " + std::to_string(int(std::round(age))) + " s ago; closed and kept (" +
-           std::to_string(js->state.cursor) + " operations)");
+           std::to_string(js->state.strokesMade) + " strokes, " + std::to_string(js->state.cursor) + " operations)");
     return;
   }
   if (!bench_->restore(scene->operations, js->state.cursor, js->state.strokes, js->state.redo, js->state.metal,

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "util/progress_beat.h"
+
 namespace emboss {
 
 ThreadPool::ThreadPool(int threads) {
@@ -26,6 +28,7 @@ void ThreadPool::runTiles() {
     if (i >= tiles_.size()) return;
     (*func_)(tiles_[i]);
     completed_.fetch_add(1, std::memory_order_relaxed);
+    progressBeat();
   }
 }
 
