@@ -122,9 +122,12 @@ if [ -n "$deb" ]; then
   mapfile -t -O "${#packages[@]}" packages < <(dpkg-deb -f "$deb" Depends | tr ',' '\n' |
     sed 's/|.*//; s/(.*)//; s/:any//; s/[[:space:]]//g' | grep -v '^$')
 fi
+# Debian's components: main only, and for the Pi non-free-firmware too (raspi-firmware, the Pi's boot
+# firmware, is there, as in Debian's own raspi image-specs).
+components=main
 case "$arch" in
   amd64) packages+=(linux-image-amd64 systemd-boot-efi) ;;
-  arm64) packages+=(linux-image-arm64 raspi-firmware) ;;
+  arm64) packages+=(linux-image-arm64 raspi-firmware); components="main non-free-firmware" ;;
 esac
 mapfile -t packages < <(printf '%s\n' "${packages[@]}" | sort -u)
 
@@ -138,9 +141,9 @@ build_base() {  # build_base OUT.tar: mmdebstrap into a tar; its text is part of
     --essential-hook='mkdir -p "$1/etc/initramfs-tools/conf.d" && echo "COMPRESS=zstd" > "$1/etc/initramfs-tools/conf.d/compress"' \
     --customize-hook='rm -f "$1"/etc/ssh/ssh_host_* "$1/var/cache/apt/"*.bin; : > "$1/etc/machine-id"' \
     "$suite" "$1" \
-    "deb $mirror $suite main" "deb $mirror $suite-updates main" "deb $security $suite-security main"
+    "deb $mirror $suite $components" "deb $mirror $suite-updates $components" "deb $security $suite-security $components"
 }
-base_key=$( { echo "$arch $suite $mirror $security"; printf '%s\n' "${packages[@]}"; declare -f build_base; } | sha256sum | cut -c1-16)
+base_key=$( { echo "$arch $suite $mirror $security $components"; printf '%s\n' "${packages[@]}"; declare -f build_base; } | sha256sum | cut -c1-16)
 base_tar="$cache/base-$arch-$base_key.tar"
 if [ -s "$base_tar" ]; then
   log "base $base_key (cached): ${#packages[@]} packages asked for"
