@@ -1,6 +1,8 @@
 # vm-lib.sh: the pieces of the HIL virtual machine, sourced by run-vm.sh and hil-tests.sh.
 # hil_prepare: make sure qemu, busybox-static, Debian's kernel, udevd and the initramfs are there.
 # hil_boot GUEST_SCRIPT TIMEOUT CONSOLE_LOG QUIET: boot, run the guest script, power off.
+# HIL_QEMU_EXTRA (an array, optional): more qemu arguments for hil_boot (power-cut.sh adds a disk
+# and a -pidfile through which it kills the VM).
 # shellcheck shell=bash
 
 HIL_CACHE=${EMBOSS_HIL_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/emboss-hil}
@@ -206,11 +208,13 @@ hil_boot() {
     -serial stdio
     -device bochs-display)  # a display for the kms test (bochs DRM driver); idle unless its module is loaded
   if [ "$accel" = tcg ]; then qemu+=(-accel tcg,thread=multi,tb-size=256); else qemu+=(-accel kvm); fi
+  qemu+=(${HIL_QEMU_EXTRA[@]+"${HIL_QEMU_EXTRA[@]}"})
   local t0=$SECONDS rc
+  # tr unbuffered: the log follows the console as it comes (power-cut.sh reads it while the VM runs).
   if [ "$quiet" = 1 ]; then
-    timeout -k 5 "$timeout_s" "${qemu[@]}" < /dev/null 2>&1 | tr -d '\r' > "$console"
+    timeout -k 5 "$timeout_s" "${qemu[@]}" < /dev/null 2>&1 | stdbuf -o0 tr -d '\r' > "$console"
   else
-    timeout -k 5 "$timeout_s" "${qemu[@]}" < /dev/null 2>&1 | tr -d '\r' | tee "$console"
+    timeout -k 5 "$timeout_s" "${qemu[@]}" < /dev/null 2>&1 | stdbuf -o0 tr -d '\r' | tee "$console"
   fi
   rc=${PIPESTATUS[0]}
   rm -rf "$job"
