@@ -401,6 +401,7 @@ bool KioskApp::step() {
   journalReport();
   if (now - lastPrune_ > 3600.0) pruneSessions(now);
   pollCapture(now);
+  pollExport();
   checkCamera(now);
   if (!capture_.message.empty() && now >= capture_.messageUntil) {
     capture_.message.clear();
