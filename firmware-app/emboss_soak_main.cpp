@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   cli.add_option("--dir", dir, "Keep the sessions folder under DIR (default: a temporary folder, removed at the end)");
   cli.add_option("--attract-seconds", o.attractSeconds, "Attract mode's play between two visitors, seconds (default 12)");
   cli.add_option("--attract-every", o.attractEvery, "Attract plays after every N-th visitor (default 10; 0: never)");
+  cli.add_option("--restart-every", o.restartEvery, "Kill and restart the kiosk mid-session every N-th visitor (default 7; 0: never)");
   cli.add_option("--seed", o.seed, "The visitors' random seed");
   cli.set_version_flag("--version", std::string("emboss-soak ") + emboss::versionString());
   try {
