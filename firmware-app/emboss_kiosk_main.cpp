@@ -29,6 +29,7 @@
 #include "display_factory.h"
 #include "display_kms.h"
 #include "display_x11.h"
+#include "journal_log.h"
 #include "pen_probe.h"
 #include "pen_replay.h"
 #include "pieces/pieces.h"
@@ -49,21 +50,23 @@ void onSignal(int) { gStop = 1; }
 constexpr const char* kDefaultConfig = "/etc/emboss/kiosk.conf";
 
 // Log lines may start with a syslog priority, "<7>" (debug) .. "<3>" (error); none is info (6).
-// Under systemd (JOURNAL_STREAM set) the prefix is kept, so the journal files each line at its
-// priority; on a terminal it is dropped. Lines above --log-level are not written.
+// Lines above --log-level are not written. When stderr is the journal (JOURNAL_STREAM names it)
+// each line is a journal entry of its own: PRIORITY, MESSAGE, and EMBOSS_SESSION (the journal id of
+// the visitor's session the kiosk is working on) so that `journalctl EMBOSS_SESSION=12` shows one
+// session's story; should the journal not take it, the line goes to stderr with its "<N>" prefix,
+// which journald reads as the priority. On a terminal the line is plain text.
 int gLogLevel = 6;
 bool gOnJournal = false;
 
 void logLine(const std::string& line) {
-  int priority = 6;
-  std::string_view text(line);
-  if (text.size() >= 3 && text[0] == '<' && text[1] >= '0' && text[1] <= '7' && text[2] == '>') {
-    priority = text[1] - '0';
-    text.remove_prefix(3);
+  const LogLine l = splitLogPriority(line);
+  if (l.priority > gLogLevel) return;
+  if (gOnJournal) {
+    if (sendToJournal(journalFields(l.text, l.priority, logSession(), "emboss-kiosk"))) return;
+    std::fprintf(stderr, "<%d>%.*s\n", l.priority, int(l.text.size()), l.text.data());
+  } else {
+    std::fprintf(stderr, "emboss-kiosk: %.*s\n", int(l.text.size()), l.text.data());
   }
-  if (priority > gLogLevel) return;
-  if (gOnJournal) std::fprintf(stderr, "<%d>%.*s\n", priority, int(text.size()), text.data());
-  else std::fprintf(stderr, "emboss-kiosk: %.*s\n", int(text.size()), text.data());
 }
 
 int logLevelByName(const std::string& name) {
@@ -172,7 +175,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   gLogLevel = logLevelByName(logLevel);
-  gOnJournal = std::getenv("JOURNAL_STREAM") != nullptr;
+  gOnJournal = stderrIsJournal();
 
   try {
     // ---- configuration: the file, then the command line

@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -21,8 +22,10 @@ using namespace emboss;
 
 namespace {
 
-// Sends one request line, returns the answer line (or a message why there is none).
-Result<std::string> ask(const std::string& path, const std::string& line, double timeoutSeconds) {
+// Sends one request line, returns the answer line (or a message why there is none). Progress lines
+// that come before it go to `progress`; each restarts the timeout, which counts silence.
+Result<std::string> ask(const std::string& path, const std::string& line, double timeoutSeconds,
+                        const std::function<void(const StaffProgress&)>& progress) {
   sockaddr_un addr{};
   if (path.size() >= sizeof addr.sun_path) return fail("the socket path is too long");
   addr.sun_family = AF_UNIX;
@@ -41,9 +44,22 @@ Result<std::string> ask(const std::string& path, const std::string& line, double
     return fail("cannot send the request");
   }
   std::string in;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutSeconds);
+  const auto silence = std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(timeoutSeconds));
+  auto deadline = std::chrono::steady_clock::now() + silence;
   char buf[4096];
-  while (in.find('\n') == std::string::npos) {
+  for (;;) {
+    // Whole lines first: progress lines are shown, the first other line is the answer.
+    for (size_t nl; (nl = in.find('\n')) != std::string::npos;) {
+      std::string got = in.substr(0, nl);
+      in.erase(0, nl + 1);
+      if (auto p = parseStaffProgress(got)) {
+        if (progress) progress(*p);
+        deadline = std::chrono::steady_clock::now() + silence;
+        continue;
+      }
+      ::close(fd);
+      return got;
+    }
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
     if (left <= 0) {
       ::close(fd);
@@ -56,9 +72,7 @@ Result<std::string> ask(const std::string& path, const std::string& line, double
     in.append(buf, size_t(n));
   }
   ::close(fd);
-  if (in.find('\n') == std::string::npos) return fail("the kiosk closed the connection without an answer");
-  in.resize(in.find('\n'));
-  return in;
+  return fail("the kiosk closed the connection without an answer");
 }
 
 void printValue(const std::string& key, const nlohmann::json& v, int indent) {
@@ -124,10 +138,15 @@ int main(int argc, char** argv) {
       }
       req.sinceUnix = *s;
     }
-    timeout = 1800;
+    req.progress = true;
+    timeout = 600;  // without a word from the kiosk; every progress line starts it again
     std::fprintf(stderr, "embossctl: exporting to %s ...\n", req.dest.c_str());
   }
-  auto a = ask(socketPath.empty() ? StaffSocket::defaultPath() : socketPath, staffRequestLine(req), timeout);
+  const auto showProgress = [](const StaffProgress& p) {
+    std::fprintf(stderr, "export: %s\n", staffProgressText(p).c_str());
+    std::fflush(stderr);
+  };
+  auto a = ask(socketPath.empty() ? StaffSocket::defaultPath() : socketPath, staffRequestLine(req), timeout, showProgress);
   if (!a) {
     std::fprintf(stderr, "embossctl: %s\n", a.error().c_str());
     return 1;

@@ -61,18 +61,36 @@ StaffSocket::~StaffSocket() {
   }
 }
 
-void StaffSocket::reply(Client& c, const std::string& line) {
-  const std::string out = line + "\n";
-  size_t done = 0;
-  // The answer is small; a peer that does not read it within a few tries is dropped.
+namespace {
+
+// Sends all of `out` from `done` on. The lines are small; a peer that does not read them within a
+// few tries is given up on (false).
+bool sendRest(int fd, const std::string& out, size_t done) {
   for (int tries = 0; done < out.size() && tries < 50; ++tries) {
-    const ssize_t n = ::send(c.fd, out.data() + done, out.size() - done, MSG_NOSIGNAL | MSG_DONTWAIT);
+    const ssize_t n = ::send(fd, out.data() + done, out.size() - done, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n > 0) done += size_t(n);
-    else if (n < 0 && errno != EAGAIN && errno != EINTR) break;
+    else if (n < 0 && errno != EAGAIN && errno != EINTR) return false;
     else ::usleep(1000);
   }
+  return done == out.size();
+}
+
+}  // namespace
+
+void StaffSocket::reply(Client& c, const std::string& line) {
+  sendRest(c.fd, line + "\n", 0);
   ::close(c.fd);
   c.fd = -1;
+}
+
+void StaffSocket::note(Client& c, const std::string& line) {
+  const std::string out = line + "\n";
+  const ssize_t n = ::send(c.fd, out.data(), out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  if (n < 0 && (errno == EAGAIN || errno == EINTR)) return;  // not read yet: this line is skipped
+  if (n < 0 || !sendRest(c.fd, out, size_t(n))) {  // embossctl is gone (the export goes on)
+    ::close(c.fd);
+    c.fd = -1;
+  }
 }
 
 void StaffSocket::poll(const Handler& handle, const Poller& pending) {
@@ -87,7 +105,10 @@ void StaffSocket::poll(const Handler& handle, const Poller& pending) {
   }
   for (auto& c : clients_) {
     if (c.waiting) {
-      if (auto a = pending()) reply(c, *a);
+      StaffPending p = pending();
+      for (const auto& line : p.progress)
+        if (c.fd >= 0) note(c, line);
+      if (p.answer && c.fd >= 0) reply(c, *p.answer);
       continue;
     }
     char buf[4096];

@@ -7,15 +7,17 @@
 #include <string>
 #include <vector>
 
+#include "staff/staff_protocol.h"
 #include "util/result.h"
 
 namespace emboss {
 
 class StaffSocket {
  public:
-  // Answers a request line now, or not yet (nullopt: the poller is asked on later calls).
+  // Answers a request line now, or not yet (nullopt: the poller is asked on later calls, for
+  // progress lines to send and, in the end, the answer).
   using Handler = std::function<std::optional<std::string>(const std::string& line)>;
-  using Poller = std::function<std::optional<std::string>()>;
+  using Poller = std::function<StaffPending()>;
 
   // Listens at `path` (a stale socket there is replaced), mode 0660, group `group` when it exists.
   static Result<std::unique_ptr<StaffSocket>> listen(const std::string& path, const std::string& group = "emboss-staff");
@@ -39,6 +41,9 @@ class StaffSocket {
   };
   StaffSocket(int fd, std::string path) : fd_(fd), path_(std::move(path)) {}
   void reply(Client& c, const std::string& line);
+  // A progress line: sent if the socket takes it now, skipped if not (the answer still comes);
+  // a peer that has gone is closed.
+  void note(Client& c, const std::string& line);
 
   int fd_ = -1;
   std::string path_;

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 namespace emboss {
 
@@ -19,11 +18,16 @@ void LatencyMeter::madeOperation(double arrival) {
 void LatencyMeter::presented(double now) {
   if (!pending_) return;
   pending_ = false;
-  ms_.push_back(std::max(0.0, (now - since_) * 1000.0));
-}
-
-double LatencyMeter::meanMs() const {
-  return ms_.empty() ? 0.0 : std::accumulate(ms_.begin(), ms_.end(), 0.0) / ms_.size();
+  const double ms = std::max(0.0, (now - since_) * 1000.0);
+  ++count_;
+  sumMs_ += ms;
+  maxMs_ = std::max(maxMs_, ms);
+  if (ms_.size() < kWindow) {
+    ms_.push_back(ms);
+  } else {
+    ms_[next_] = ms;
+    next_ = (next_ + 1) % kWindow;
+  }
 }
 
 double LatencyMeter::percentileMs(double p) const {
@@ -35,8 +39,6 @@ double LatencyMeter::percentileMs(double p) const {
   const size_t j = std::min(i + 1, v.size() - 1);
   return v[i] + (v[j] - v[i]) * (k - i);
 }
-
-double LatencyMeter::maxMs() const { return ms_.empty() ? 0.0 : *std::max_element(ms_.begin(), ms_.end()); }
 
 void FpsMeter::frame(double now) {
   ++frames_;

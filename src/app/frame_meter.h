@@ -17,15 +17,22 @@ class LatencyMeter {
   void madeOperation(double arrival);
   // A frame with the model's changes was presented at `now`.
   void presented(double now);
-  size_t count() const { return ms_.size(); }
-  double meanMs() const;
+  // Count, mean and max cover every update since the kiosk started; the percentiles the last
+  // kWindow updates (the kiosk runs for months: what it keeps must not grow with its strokes).
+  static constexpr size_t kWindow = 4096;
+  size_t count() const { return count_; }
+  double meanMs() const { return count_ ? sumMs_ / double(count_) : 0.0; }
   double percentileMs(double p) const;  // p in 0..100
-  double maxMs() const;
+  double maxMs() const { return maxMs_; }
+  size_t kept() const { return ms_.size(); }  // updates held for the percentiles, at most kWindow
 
  private:
   bool pending_ = false;
   double since_ = 0;
-  std::vector<double> ms_;
+  size_t count_ = 0;
+  double sumMs_ = 0, maxMs_ = 0;
+  std::vector<double> ms_;  // a ring of the last kWindow updates; next_ is the oldest once full
+  size_t next_ = 0;
 };
 
 // Frames presented per second, in total for a mode and over the last few seconds.

@@ -290,7 +290,10 @@ void KioskApp::saveSession(const std::string& why) {
     journaledIds_.clear();
     journalState_ = {};
   }
-  if (bench_->model().activeCount() == 0) return;
+  if (bench_->model().activeCount() == 0) {
+    setLogSession(0);
+    return;
+  }
   // The picture: the bench as the visitor last saw it, traced to the end.
   ViewChanges ch = bench_->takeChanges();
   if (!benchShown_) ch.full = true;
@@ -303,6 +306,7 @@ void KioskApp::saveSession(const std::string& why) {
   lastSessionJson_ = sceneToJson(scene, &bench_->model());
   if (log_) log_("session: saving (" + why + ")");
   sessions_->save(scene, bench_->model(), &composer_->frame(), stamp);
+  setLogSession(0);  // the lines about the session, its saving included, are logged
   changed_.insert(changed_.end(), changed.begin(), changed.end());
 }
 
@@ -397,6 +401,7 @@ bool KioskApp::step() {
   journalReport();
   if (now - lastPrune_ > 3600.0) pruneSessions(now);
   pollCapture(now);
+  pollExport();
   checkCamera(now);
   if (!capture_.message.empty() && now >= capture_.messageUntil) {
     capture_.message.clear();

@@ -21,6 +21,7 @@
 #include "app/kiosk_log.h"
 #include "app/kiosk_overlay.h"
 #include "app/kiosk_states.h"
+#include "app/session_export.h"
 #include "app/session_store.h"
 #include "app/workbench.h"
 #include "capture/capture_drawing.h"
@@ -28,6 +29,7 @@
 #include "devices/camera.h"
 #include "devices/display.h"
 #include "devices/pen.h"
+#include "staff/staff_protocol.h"
 #include "store/session_journal.h"
 
 namespace emboss {
@@ -121,9 +123,12 @@ class KioskApp {
   // Staff mode's last message (export result, reset).
   const std::string& staffMessage() const { return staff_.message; }
   // A staff request (src/staff/staff_protocol.h) from embossctl: the answer, one JSON line, or
-  // nothing yet (an export runs on a thread of its own; ask staffPoll() on later steps).
+  // nothing yet (an export runs on a thread of its own; ask staffPoll() on later steps for its
+  // progress lines and its answer).
   std::optional<std::string> staffCommand(const std::string& line);
-  std::optional<std::string> staffPoll();
+  StaffPending staffPoll();
+  // An export under way (from the staff screen or embossctl).
+  bool exporting() const { return export_ != nullptr; }
   // What the kiosk is doing, for the service manager's STATUS= (attract, visitor, staff, exporting...).
   std::string statusLine() const;
   // Runs a staff menu entry by index (0 resume, 1 export, 2 reset, 3 capture a drawing), as a tap
@@ -150,6 +155,12 @@ class KioskApp {
   void pruneSessions(double now);
   void startAttract(double now, size_t index, double done);
   void updateStaffView(double now);
+  // Starts the one staff export (the menu's and embossctl's), the session in progress included.
+  // A refusal (no stick, one already under way) comes back at once.
+  Status startExport(ExportRequest request);
+  // Follows the export under way: its progress and its outcome on the staff screen, in the log and
+  // for embossctl. Called every step.
+  void pollExport();
   void present(double now, std::vector<Rect>& changed, bool modelChanged);
   Overlay overlay(double now) const;
   void startCapture(double now);
@@ -204,7 +215,12 @@ class KioskApp {
   size_t presents_ = 0;
   bool firstPresent_ = true;
   std::optional<std::string> lastSessionJson_;
-  std::future<std::string> staffExport_;     // an export under way (embossctl), its answer
+  std::unique_ptr<SessionExport> export_;     // the export under way, null when none
+  bool exportForSocket_ = false;              // embossctl asked for it and waits for the answer
+  bool exportProgressLines_ = false;          // ... and for progress lines
+  std::vector<std::string> exportLines_;      // progress lines not yet sent to embossctl
+  std::optional<std::string> exportAnswer_;   // the answer not yet sent to embossctl
+  SessionStore::ExportProgress exportShown_;  // the progress last shown
   std::unique_ptr<SessionJournal> journal_;
   bool journalOpen_ = false;                 // the bench's session has been begun in the journal
   std::int64_t journalId_ = 0;

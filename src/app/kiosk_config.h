@@ -24,6 +24,7 @@ struct KioskConfig {
   std::filesystem::path piecesDir;                                  // empty: searched (see docs/kiosk.md)
   std::filesystem::path sessionsDir;  // empty: $STATE_DIRECTORY/sessions, else ~/.local/state/emboss-kiosk/sessions
   std::filesystem::path exportDir = "/media/emboss-export";         // staff export target (a USB stick)
+  bool exportAnyDir = false;  // the staff menu may export to a folder on the kiosk's own disk (tests only)
   double retentionDays = 365;     // finished sessions older than this are deleted (oldest first)
   double retentionMb = 4096;      // ... and beyond this much space, oldest first (a year on a 16 GB card)
   double idleSeconds = 60;        // a visitor who does nothing this long is asked "still there?"

@@ -28,6 +28,7 @@ void KioskApp::journalSync() {
     head.operations.clear();
     journalId_ = journal_->begin(sceneToJson(head));
     journalOpen_ = true;
+    setLogSession(journalId_);
     journaledIds_.clear();
     journalState_ = {};
   }
@@ -51,12 +52,15 @@ void KioskApp::journalSync() {
 
 void KioskApp::journalReport() {
   if (!journal()) return;
+  const std::int64_t current = logSession();
   for (const auto& [session, n] : journal_->takeDurable()) {
     if (session != durableSession_) durableSession_ = session, durableLogged_ = 0;
+    setLogSession(session);  // the writer may report a session that has just ended
     for (std::uint64_t k = durableLogged_ + 1; k <= n; ++k)
       if (log_) log_("<7>journal: stroke " + std::to_string(k) + " durable");
     durableLogged_ = std::max(durableLogged_, n);
   }
+  setLogSession(current);
 }
 
 bool KioskApp::journalFlush(double seconds) {
@@ -72,6 +76,7 @@ void KioskApp::restoreSession(double now) {
   auto js = journal_->unfinished();
   if (!js) return;
   const std::string name = "session " + std::to_string(js->id);
+  setLogSession(js->id);  // the lines below are about it
   if (js->dropped && log_)
     log_("<4>session: " + name + ": " + std::to_string(js->dropped) + " damaged records dropped (checksum); kept the " +
          std::to_string(js->records) + " before them");
@@ -80,6 +85,7 @@ void KioskApp::restoreSession(double now) {
   if (!scene) {
     if (log_) log_("<3>session: " + name + " cannot be read back (" + scene.error() + "); kept in the journal as finished");
     journal_->endSession(js->id);
+    setLogSession(0);
     return;
   }
   const double age = wallSeconds() - js->last;
@@ -97,6 +103,7 @@ void KioskApp::restoreSession(double now) {
     if (log_)
       log_("session: " + name + " was left unfinished " + std::to_string(int(std::round(age))) + " s ago; closed and kept (" +
            std::to_string(js->state.strokesMade) + " strokes, " + std::to_string(js->state.cursor) + " operations)");
+    setLogSession(0);
     return;
   }
   if (!bench_->restore(scene->operations, js->state.cursor, js->state.strokes, js->state.redo, js->state.metal,

@@ -48,23 +48,14 @@ void KioskApp::staffActivate(size_t index) {
       handleEvents(now);
       break;
     case 1: {
-      std::optional<SessionStore::Extra> current;
-      std::string json;
-      if (bench_->model().activeCount() > 0) {
-        json = sceneToJson(bench_->scene("Visitor session in progress"), &bench_->model());
-        current = SessionStore::Extra{json, benchShown_ ? &composer_->frame() : nullptr};
-      }
-      sessions_->retryPending();
-      auto r = sessions_->exportAll(config_.exportDir, fileStamp(), current);
-      if (r) {
-        staff_.message = "Exported " + std::to_string(r->files) + " files (" + std::to_string(r->bytes / 1024) +
-                         " KiB) to " + r->folder.string();
-        staff_.messageIsError = false;
-      } else {
-        staff_.message = r.error();
+      ExportRequest r;
+      r.dest = config_.exportDir;
+      r.allowAnyDir = config_.exportAnyDir;
+      if (Status st = startExport(std::move(r)); !st) {
+        staff_.message = st.error();
         staff_.messageIsError = true;
+        if (log_) log_("staff: " + staff_.message);
       }
-      if (log_) log_("staff: " + staff_.message);
       break;
     }
     case 2: {
@@ -186,7 +177,7 @@ std::optional<std::string> KioskApp::staffCommand(const std::string& line) {
       const auto sp = std::filesystem::space(sessions_->dir(), ec);
       if (!ec) j["disk"] = {{"free_mib", double(sp.available) / 1048576.0}, {"size_mib", double(sp.capacity) / 1048576.0}};
       j["operations_on_bench"] = bench_->model().activeCount();
-      j["exporting"] = staffExport_.valid();
+      j["exporting"] = exporting();
       return answer(j);
     }
     case StaffRequest::Command::Sessions: {
@@ -214,28 +205,13 @@ std::optional<std::string> KioskApp::staffCommand(const std::string& line) {
       return answer({{"wiped", n}});
     }
     case StaffRequest::Command::Export: {
-      if (staffExport_.valid()) return refusal("an export is already under way");
-      if (Status s = checkExportDestination(req->dest, req->allowAnyDir); !s) return refusal(s.error());
-      sessions_->retryPending();
-      // What the thread needs, copied: it never touches the bench, the composer or the store's state.
-      std::optional<std::string> json;
-      std::optional<Image> picture;
-      if (bench_->model().activeCount() > 0) {
-        json = sceneToJson(bench_->scene("Visitor session in progress"), &bench_->model());
-        if (benchShown_) picture = composer_->frame();
-      }
-      const SessionStore store(sessions_->dir(), {});
-      const StaffRequest r = *req;
-      const std::string stamp = fileStamp();
-      if (log_) log_("staff: exporting to " + r.dest.string());
-      overlayChanged_ = true;
-      staffExport_ = std::async(std::launch::async, [store, r, stamp, json, picture]() {
-        std::optional<SessionStore::Extra> current;
-        if (json) current = SessionStore::Extra{*json, picture ? &*picture : nullptr};
-        auto res = store.exportAll(r.dest, sanitizeName(stamp), current, {}, r.sinceUnix);
-        if (!res) return refusal(res.error());
-        return answer({{"folder", res->folder.string()}, {"files", res->files}, {"bytes", res->bytes}});
-      });
+      ExportRequest r;
+      r.dest = req->dest;
+      r.sinceUnix = req->sinceUnix;
+      r.allowAnyDir = req->allowAnyDir;
+      if (Status st = startExport(std::move(r)); !st) return refusal(st.error());
+      exportForSocket_ = true;
+      exportProgressLines_ = req->progress;
       return std::nullopt;
     }
   }
@@ -245,18 +221,75 @@ std::optional<std::string> KioskApp::staffCommand(const std::string& line) {
 std::string KioskApp::statusLine() const {
   std::string s = kioskModeName(states_.mode());
   if (s == "attract") s += " mode";
-  if (staffExport_.valid()) s += ", exporting";
+  if (exporting()) s += ", exporting";
   if (displayLost_) s += ", no display";
   if (journal_ && !journal_->ok()) s += ", sessions not journalled";
   else if (journal_ && !journal_->lastError().empty()) s += ", cannot write sessions: " + journal_->lastError();
   return s;
 }
 
-std::optional<std::string> KioskApp::staffPoll() {
-  if (!staffExport_.valid() || staffExport_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return std::nullopt;
-  std::string a = staffExport_.get();
-  if (log_) log_("staff: export done: " + a);
-  return a;
+Status KioskApp::startExport(ExportRequest request) {
+  if (export_) return fail("An export is already under way (to " + export_->dest().string() + ")");
+  sessions_->retryPending();
+  // What the thread needs, copied: it never touches the bench, the composer or the store's state.
+  if (bench_->model().activeCount() > 0) {
+    request.currentJson = sceneToJson(bench_->scene("Visitor session in progress"), &bench_->model());
+    if (benchShown_) request.currentPicture = composer_->frame();
+  }
+  request.stamp = fileStamp();
+  const std::string dest = request.dest.string();
+  auto started = SessionExport::start(sessions_->dir(), std::move(request));
+  if (!started) return fail(started.error());
+  export_ = std::move(*started);
+  exportForSocket_ = exportProgressLines_ = false;
+  exportLines_.clear();
+  exportAnswer_.reset();
+  exportShown_ = {};
+  staff_.message = "Exporting to " + dest + " ...";
+  staff_.messageIsError = false;
+  overlayChanged_ = true;
+  if (log_) log_("staff: exporting to " + dest);
+  return Ok{};
+}
+
+void KioskApp::pollExport() {
+  if (!export_) return;
+  const bool finished = export_->done();  // read first: the progress read after it is the last one
+  const SessionStore::ExportProgress p = export_->progress();
+  const StaffProgress sp{p.sessionsDone, p.sessions, p.bytes};
+  if (p.sessions != exportShown_.sessions || p.sessionsDone != exportShown_.sessionsDone || p.bytes != exportShown_.bytes) {
+    exportShown_ = p;
+    staff_.message = "Exporting to " + export_->dest().string() + ": " + staffProgressText(sp);
+    staff_.messageIsError = false;
+    overlayChanged_ = true;
+    if (exportForSocket_ && exportProgressLines_) exportLines_.push_back(staffProgressLine(sp));
+  }
+  if (!finished) return;
+  const auto& r = export_->result();
+  if (r) {
+    staff_.message = "Exported " + std::to_string(r->files) + " files (" + std::to_string(r->bytes / 1024) + " KiB) to " +
+                     r->folder.string();
+    staff_.messageIsError = false;
+    if (exportForSocket_) exportAnswer_ = answer({{"folder", r->folder.string()}, {"files", r->files}, {"bytes", r->bytes}});
+  } else {
+    staff_.message = r.error();
+    staff_.messageIsError = true;
+    if (exportForSocket_) exportAnswer_ = refusal(r.error());
+  }
+  overlayChanged_ = true;
+  if (log_) log_(std::string(r ? "" : "<3>") + "staff: " + staff_.message);
+  export_.reset();
+}
+
+StaffPending KioskApp::staffPoll() {
+  StaffPending p;
+  p.progress.swap(exportLines_);
+  if (exportAnswer_) {
+    p.answer = std::move(exportAnswer_);
+    exportAnswer_.reset();
+    exportForSocket_ = false;
+  }
+  return p;
 }
 
 }  // namespace emboss

@@ -96,22 +96,26 @@ std::vector<fs::path> SessionStore::list() const {
 
 Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& target, const std::string& stamp,
                                                             const std::optional<Extra>& current,
-                                                            const SpaceProbe& spaceIn, double sinceUnix) const {
+                                                            const SpaceProbe& spaceIn, double sinceUnix,
+                                                            const ExportProgressSink& progress) const {
   std::error_code ec;
   if (!fs::is_directory(target, ec))
     return fail("export: '" + target.string() + "' is not a folder (is the USB stick in?)");
-  // What to copy: every saved session's scene file and picture.
-  std::vector<fs::path> files;
+  // What to copy: every saved session's scene file and picture, a session at a time.
+  std::vector<std::vector<fs::path>> sessions;
+  size_t fileCount = 0;
   std::uintmax_t need = current ? current->json.size() + (current->picture ? current->picture->rgba.size() : 0) : 0;
   for (const auto& scene : list()) {
     struct stat st {};
     if (sinceUnix > 0 && ::stat(scene.c_str(), &st) == 0 && double(st.st_mtime) < sinceUnix) continue;
-    files.push_back(scene);
+    std::vector<fs::path> files{scene};
     fs::path png = scene;
     png.replace_extension(".png");
     if (fs::exists(png, ec)) files.push_back(png);
+    for (const auto& f : files) need += fs::file_size(f, ec) + 4096;
+    fileCount += files.size();
+    sessions.push_back(std::move(files));
   }
-  for (const auto& f : files) need += fs::file_size(f, ec) + 4096;
   need += 1 << 20;  // headroom for the file system's own records
   const SpaceProbe space = spaceIn ? spaceIn : [](const fs::path& p) -> std::optional<std::uintmax_t> {
     std::error_code e;
@@ -123,26 +127,40 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
     return fail("export: not enough space on '" + target.string() + "': " + std::to_string(need / 1024) +
                 " KiB needed, " + std::to_string(*avail / 1024) + " KiB free; nothing was copied");
   ExportSummary sum;
+  ExportProgress done;
+  done.sessions = sessions.size() + (current ? 1 : 0);
+  const auto report = [&] {
+    done.files = sum.files, done.bytes = sum.bytes;
+    if (progress) progress(done);
+  };
+  report();
   sum.folder = target / ("emboss-sessions-" + stamp);
   fs::create_directories(sum.folder, ec);
   if (ec) return fail("export: cannot create '" + sum.folder.string() + "': " + ec.message());
-  for (const auto& f : files) {
-    std::ifstream in(f, std::ios::binary);
-    if (!in) return fail("export: cannot read '" + f.string() + "': " + std::strerror(errno) + " (" + std::to_string(sum.files) + " files copied)");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string bytes = ss.str();
-    Status s = writeFileAtomically(sum.folder / f.filename(), bytes);
-    if (!s) return fail("export: " + s.error() + " after " + std::to_string(sum.files) + " of " + std::to_string(files.size()) + " files");
-    ++sum.files;
-    sum.bytes += bytes.size();
+  for (const auto& files : sessions) {
+    for (const auto& f : files) {
+      std::ifstream in(f, std::ios::binary);
+      if (!in) return fail("export: cannot read '" + f.string() + "': " + std::strerror(errno) + " (" + std::to_string(sum.files) + " files copied)");
+      std::stringstream ss;
+      ss << in.rdbuf();
+      const std::string bytes = ss.str();
+      Status s = writeFileAtomically(sum.folder / f.filename(), bytes);
+      if (!s) return fail("export: " + s.error() + " after " + std::to_string(sum.files) + " of " + std::to_string(fileCount) + " files");
+      ++sum.files;
+      sum.bytes += bytes.size();
+    }
+    ++done.sessionsDone;
+    report();
   }
   if (current) {
-    Status s = writeFileAtomically(sum.folder / ("current-" + stamp + ".json"), current->json);
-    if (s && current->picture) s = writePngAtomically(*current->picture, sum.folder / ("current-" + stamp + ".png"));
+    const fs::path json = sum.folder / ("current-" + stamp + ".json"), png = sum.folder / ("current-" + stamp + ".png");
+    Status s = writeFileAtomically(json, current->json);
+    if (s && current->picture) s = writePngAtomically(*current->picture, png);
     if (!s) return fail("export: " + s.error() + " (the " + std::to_string(sum.files) + " saved files were copied)");
     sum.files += current->picture ? 2 : 1;
-    sum.bytes += current->json.size();
+    sum.bytes += current->json.size() + (current->picture ? fs::file_size(png, ec) : 0);
+    ++done.sessionsDone;
+    report();
   }
   // The export's folder itself is a new name in the stick's root: make that durable too.
   if (Status s = syncDirectory(target); !s) return fail("export: " + s.error());

@@ -49,13 +49,23 @@ class SessionStore {
     size_t files = 0;
     std::uintmax_t bytes = 0;
   };
+  // How far an export is: sessions (a scene file and its picture; the one in progress counts as one)
+  // copied of all it copies, and the files and bytes written so far.
+  struct ExportProgress {
+    size_t sessionsDone = 0, sessions = 0, files = 0;
+    std::uintmax_t bytes = 0;
+  };
+  using ExportProgressSink = std::function<void(const ExportProgress&)>;
   // Copies every saved session (scene files and pictures), plus `current`, into a new folder
   // TARGET/emboss-sessions-STAMP. Checks the free space first; fails with a message that says how
   // much is needed and free, or which file could not be written. The sessions themselves are
   // never touched. With `sinceUnix`, only sessions saved since then. Every file and folder written
-  // is fsynced before the export counts as done.
+  // is fsynced before the export counts as done. `progress` (when given) hears of the start and of
+  // every session copied, on the calling thread. Const and touching nothing but the files: another
+  // thread may run it on a copy of the store.
   Result<ExportSummary> exportAll(const std::filesystem::path& target, const std::string& stamp,
-                                  const std::optional<Extra>& current, const SpaceProbe& space = {}, double sinceUnix = 0) const;
+                                  const std::optional<Extra>& current, const SpaceProbe& space = {}, double sinceUnix = 0,
+                                  const ExportProgressSink& progress = {}) const;
 
  private:
   struct Pending {

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <fstream>
 
@@ -38,6 +39,10 @@ Result<StaffRequest> parseStaffRequest(const std::string& line) {
       if (!a->is_boolean()) return fail("\"allow_any_dir\" must be true or false");
       r.allowAnyDir = a->get<bool>();
     }
+    if (const auto p = j.find("progress"); p != j.end()) {
+      if (!p->is_boolean()) return fail("\"progress\" must be true or false");
+      r.progress = p->get<bool>();
+    }
   } else if (c == "wipe") {
     r.command = StaffRequest::Command::Wipe;
     const auto d = j.find("older_than_days");
@@ -61,6 +66,7 @@ std::string staffRequestLine(const StaffRequest& r) {
       j["dest"] = r.dest.string();
       if (r.sinceUnix > 0) j["since"] = r.sinceUnix;
       if (r.allowAnyDir) j["allow_any_dir"] = true;
+      if (r.progress) j["progress"] = true;
       break;
     case StaffRequest::Command::Wipe:
       j["cmd"] = "wipe";
@@ -68,6 +74,32 @@ std::string staffRequestLine(const StaffRequest& r) {
       break;
   }
   return j.dump();
+}
+
+std::string staffProgressLine(const StaffProgress& p) {
+  return json{{"progress", {{"sessions_done", p.sessionsDone}, {"sessions", p.sessions}, {"bytes", p.bytes}}}}.dump();
+}
+
+std::optional<StaffProgress> parseStaffProgress(const std::string& line) {
+  const json j = json::parse(line, nullptr, false);
+  if (!j.is_object() || j.contains("ok")) return std::nullopt;
+  const auto p = j.find("progress");
+  if (p == j.end() || !p->is_object()) return std::nullopt;
+  const auto count = [&](const char* key) -> std::optional<std::uint64_t> {
+    const auto v = p->find(key);
+    if (v == p->end() || !v->is_number_unsigned()) return std::nullopt;
+    return v->get<std::uint64_t>();
+  };
+  const auto done = count("sessions_done"), all = count("sessions"), bytes = count("bytes");
+  if (!done || !all || !bytes) return std::nullopt;
+  return StaffProgress{*done, *all, *bytes};
+}
+
+std::string staffProgressText(const StaffProgress& p) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%llu/%llu sessions, %.1f MB", static_cast<unsigned long long>(p.sessionsDone),
+                static_cast<unsigned long long>(p.sessions), double(p.bytes) / 1e6);
+  return buf;
 }
 
 Result<double> parseSince(const std::string& text, double nowUnix) {

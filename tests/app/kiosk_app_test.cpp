@@ -1,7 +1,9 @@
 // The whole kiosk, headless, under a fake clock: a recorded visitor replayed, sessions saved,
-// staff export, and the fallbacks when files or disks misbehave.
+// capture drawing, attract mode, and the fallbacks when files or devices misbehave. The staff
+// screen, exports and the session store: kiosk_staff_test.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -16,59 +18,19 @@
 #include "demo_recording.h"
 #include "input/evemu.h"
 #include "pen_replay.h"
+#include "kiosk_fixtures.h"
 #include "test_support.h"
 
 namespace emboss {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr int kW = 480, kH = 300;
-
-class FakeButtons final : public ButtonSource {
- public:
-  std::string name() const override { return "fake buttons"; }
-  bool poll(std::vector<ButtonEvent>& out) override {
-    out.insert(out.end(), queued.begin(), queued.end());
-    queued.clear();
-    return true;
-  }
-  void tap(Action a, double t) {
-    queued.push_back({t, a, true, false});
-    queued.push_back({t, a, false, false});
-  }
-  std::vector<ButtonEvent> queued;
-};
-
-std::vector<PenSample> demoSamples() {
-  auto rec = parseEvemu(test::visitorDemoRecording());
-  EXPECT_TRUE(rec) << (rec ? "" : rec.error());
-  auto samples = evemuToSamples(*rec);
-  EXPECT_TRUE(samples);
-  return *samples;
-}
-
-KioskConfig testConfig(const fs::path& dir) {
-  KioskConfig c;
-  c.sessionsDir = dir / "sessions";
-  c.exportDir = dir / "export";
-  c.threads = 2;
-  return c;
-}
-
-// A small, quick attract piece.
-std::vector<AttractPiece> tinyPieces() {
-  Scene s;
-  s.workpiece = std::make_shared<Plate>(30.0, 20.0, 0.5);
-  s.title = "tiny";
-  for (int i = 0; i < 6; ++i) {
-    Operation op;
-    op.kind = OpKind::Punch;
-    op.a = 3, op.p = 0.2, op.q = 1;
-    op.at = {-15.0 + 6 * i, 0, 0.5};
-    s.operations.push_back(op);
-  }
-  return {{"tiny", s}};
-}
+using test::demoSamples;
+using test::FakeButtons;
+using test::kH;
+using test::kW;
+using test::testConfig;
+using test::tinyPieces;
 
 // What the session must hold: the recording's strokes through the kiosk's mapping, picking and
 // the catalogue, tools switched by the barrel button, computed here without the kiosk.
@@ -216,12 +178,18 @@ TEST(KioskApp, IdleVisitorIsSavedAndAttractResumes) {
   app.setPen(&pen, PenMapping::Tablet, true);
   for (int i = 0; i < 5; ++i) app.step(), t += 0.02;
   ASSERT_GT(app.bench().model().activeCount(), 0u);
+  // The log's lines are about the session in the journal (journald's EMBOSS_SESSION field).
+  ASSERT_TRUE(app.journal());
+  const auto journalled = app.journal()->list();
+  ASSERT_FALSE(journalled.empty());
+  EXPECT_EQ(logSession(), journalled.back().id);
   t += config.idleSeconds + 0.5;
   app.step();
   EXPECT_EQ(app.mode(), KioskMode::StillThere);
   t += config.countdownSeconds + 0.5;
   app.step();
   EXPECT_EQ(app.mode(), KioskMode::Attract);
+  EXPECT_EQ(logSession(), 0);  // saved and ended: the lines that follow are about no session
   const auto saved = app.sessions().list();
   ASSERT_EQ(saved.size(), 1u);
   auto scene = loadScene(saved[0]);
@@ -255,43 +223,6 @@ TEST(KioskApp, NewSheetSavesTheOldOneAndUndoNeverLosesTheSession) {
   EXPECT_EQ(app.bench().model().activeCount(), 0u);
   ASSERT_EQ(app.sessions().list().size(), 1u);
   EXPECT_EQ(loadScene(app.sessions().list()[0])->operations.size(), ops);
-}
-
-TEST(KioskApp, StaffExportsSessionsAndSaysWhyWhenItCannot) {
-  const fs::path dir = test::scratchDir("kiosk-app-staff");
-  double t = 0;
-  MemoryDisplay display(kW, kH);
-  KioskConfig config = testConfig(dir);
-  // A session saved earlier.
-  fs::create_directories(config.sessionsDir);
-  {
-    Scene s;
-    s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
-    Model m(s.workpiece, Deformation::Sheet);
-    ASSERT_TRUE(saveScene(s, &m, config.sessionsDir / "session-20240101-120000.json"));
-  }
-  std::vector<std::string> log;
-  KioskStart start;
-  start.staff = true;
-  KioskApp app(config, tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; }, start);
-  EXPECT_EQ(app.mode(), KioskMode::Staff);
-  app.step();
-  // The export folder is missing (no USB stick): a clear message, nothing else happens.
-  app.staffActivate(1);
-  EXPECT_NE(app.staffMessage().find("is not a folder"), std::string::npos) << app.staffMessage();
-  fs::create_directories(config.exportDir);
-  app.staffActivate(1);
-  EXPECT_EQ(app.staffMessage().rfind("Exported 1 files", 0), 0u) << app.staffMessage();
-  bool found = false;
-  for (const auto& e : fs::recursive_directory_iterator(config.exportDir)) found |= e.path().filename() == "session-20240101-120000.json";
-  EXPECT_TRUE(found);
-  EXPECT_TRUE(fs::exists(config.sessionsDir / "session-20240101-120000.json"));  // never moved
-  // Back to the exhibit.
-  FakeButtons buttons;
-  app.addButtons(&buttons);
-  buttons.tap(Action::Turn, t);  // activates the selected entry: "back to the exhibit"
-  app.step();
-  EXPECT_EQ(app.mode(), KioskMode::Attract);
 }
 
 // A camera whose still is a drawing on a sheet of paper (a circle, landscape A-format) lying on a
@@ -445,45 +376,6 @@ TEST(KioskApp, AnIdleCameraThatGoesAwayIsDroppedAndTheStaffMenuCaptures) {
   EXPECT_FALSE(app.cameraLost());
 }
 
-TEST(SessionStore, FullDiskForExportIsAClearMessageAndNothingIsCopied) {
-  const fs::path dir = test::scratchDir("session-store-full");
-  SessionStore store(dir / "sessions", {});
-  Scene s;
-  s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
-  Model m(s.workpiece, Deformation::Sheet);
-  ASSERT_TRUE(store.save(s, m, nullptr, "20240101-000000"));
-  fs::create_directories(dir / "stick");
-  auto r = store.exportAll(dir / "stick", "x", std::nullopt, [](const fs::path&) { return std::optional<std::uintmax_t>(1000); });
-  ASSERT_FALSE(r);
-  EXPECT_NE(r.error().find("not enough space"), std::string::npos) << r.error();
-  EXPECT_TRUE(fs::is_empty(dir / "stick"));
-}
-
-TEST(SessionStore, AFailedSaveIsKeptAndWrittenLater) {
-  const fs::path dir = test::scratchDir("session-store-retry");
-  std::ofstream(dir / "blocked") << "a file where the folder should be";
-  std::vector<std::string> log;
-  SessionStore store(dir / "blocked" / "sessions", [&](const std::string& l) { log.push_back(l); });
-  Scene s;
-  s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
-  Model m(s.workpiece, Deformation::Sheet);
-  Operation op;
-  op.kind = OpKind::Punch;
-  op.a = 3, op.p = 0.2, op.at = {0, 0, 0.5};
-  ASSERT_TRUE(m.add(op));
-  Image picture(8, 8);
-  EXPECT_FALSE(store.save(s, m, &picture, "20240101-000000"));
-  EXPECT_EQ(store.pendingCount(), 1u);
-  ASSERT_FALSE(log.empty());
-  EXPECT_NE(log[0].find("keeping the session"), std::string::npos) << log[0];
-  EXPECT_EQ(store.retryPending(), 1u);  // still blocked
-  fs::remove(dir / "blocked");
-  EXPECT_EQ(store.retryPending(), 0u);
-  ASSERT_EQ(store.list().size(), 1u);
-  EXPECT_EQ(loadScene(store.list()[0])->operations.size(), 1u);
-  EXPECT_TRUE(fs::exists(dir / "blocked" / "sessions" / "session-20240101-000000.png"));
-}
-
 TEST(AttractLibrary, ABrokenPieceIsSkippedWithAMessage) {
   const fs::path dir = test::scratchDir("attract-broken");
   std::ofstream(dir / "a-broken.json") << "{\"operations\": [ {\"op\": \"punch\", \"a\": -1} ]";
@@ -498,29 +390,6 @@ TEST(AttractLibrary, ABrokenPieceIsSkippedWithAMessage) {
   EXPECT_NE(log[1].find("b-bad-op.json"), std::string::npos) << log[1];
   EXPECT_TRUE(loadAttractPieces(dir / "missing", {}).empty());
   EXPECT_FALSE(builtinAttractPieces().empty());
-}
-
-TEST(KioskApp, StaffScreenNamesAnUnusableTabletWithTheReason) {
-  const fs::path dir = test::scratchDir("kiosk-app-notes");
-  double t = 0;
-  MemoryDisplay display(kW, kH);
-  KioskStart start;
-  start.staff = true;
-  KioskApp app(testConfig(dir), tinyPieces(), display, {}, [&] { return t; }, start);
-  const std::string why =
-      "no tablet found: /dev/hidraw0 (device 256c:006d: its report descriptor describes no pen (digitizer stylus with X and Y))";
-  app.setDeviceNote("Tablet", why);
-  app.step();
-  std::string all;
-  for (const auto& l : app.staffLines()) {
-    EXPECT_LE(l.size(), 58u) << l;  // wrapped to fit beside the menu
-    all += (all.empty() ? "" : " ") + (l.rfind("  ", 0) == 0 ? l.substr(2) : l);
-  }
-  EXPECT_NE(all.find("Tablet: " + why), std::string::npos) << all;
-  app.setDeviceNote("Tablet", "");
-  t += 0.1;
-  app.step();
-  for (const auto& l : app.staffLines()) EXPECT_EQ(l.find("Tablet:"), std::string::npos) << l;
 }
 
 TEST(KioskApp, AttractModeGoesOnWhereItWasAfterAStall) {

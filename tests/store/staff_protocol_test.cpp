@@ -17,6 +17,25 @@ TEST(StaffProtocol, RequestsRoundTrip) {
   EXPECT_EQ(back->dest, r.dest);
   EXPECT_EQ(back->sinceUnix, r.sinceUnix);
   EXPECT_FALSE(back->allowAnyDir);
+  EXPECT_FALSE(back->progress);
+  r.progress = true;
+  EXPECT_TRUE(parseStaffRequest(staffRequestLine(r))->progress);
+}
+
+TEST(StaffProtocol, ProgressLinesRoundTripAndAreNotAnswers) {
+  const StaffProgress p{3, 12, 1234567};
+  const auto back = parseStaffProgress(staffProgressLine(p));
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->sessionsDone, 3u);
+  EXPECT_EQ(back->sessions, 12u);
+  EXPECT_EQ(back->bytes, 1234567u);
+  EXPECT_EQ(staffProgressText(p), "3/12 sessions, 1.2 MB");
+  // The answer that ends an export is never taken for progress, nor is anything malformed.
+  EXPECT_FALSE(parseStaffProgress(R"({"ok":true,"folder":"/media/x","files":2,"bytes":10})"));
+  EXPECT_FALSE(parseStaffProgress(R"({"ok":false,"progress":{"sessions_done":1,"sessions":2,"bytes":3}})"));
+  EXPECT_FALSE(parseStaffProgress(R"({"progress":{"sessions_done":-1,"sessions":2,"bytes":3}})"));
+  EXPECT_FALSE(parseStaffProgress(R"({"progress":{"sessions":2,"bytes":3}})"));
+  EXPECT_FALSE(parseStaffProgress("not json"));
 }
 
 TEST(StaffProtocol, BadRequestsSayWhy) {
@@ -26,6 +45,7 @@ TEST(StaffProtocol, BadRequestsSayWhy) {
   EXPECT_NE(parseStaffRequest(R"({"cmd":"export","dest":"relative/dir"})").error().find("absolute"), std::string::npos);
   EXPECT_NE(parseStaffRequest(R"({"cmd":"wipe","older_than_days":-1})").error().find("older_than_days"), std::string::npos);
   EXPECT_FALSE(parseStaffRequest(R"({"cmd":"wipe","older_than_days":1e308})"));
+  EXPECT_NE(parseStaffRequest(R"({"cmd":"export","dest":"/media/x","progress":"yes"})").error().find("progress"), std::string::npos);
 }
 
 TEST(StaffProtocol, ExportDestinationMustBeAFolderOffTheRootFileSystem) {

@@ -1,0 +1,47 @@
+// The staff export on a thread of its own: the destination checked, the sessions copied, progress kept.
+#include "app/session_export.h"
+
+#include "staff/staff_protocol.h"
+
+namespace emboss {
+
+namespace fs = std::filesystem;
+
+Result<std::unique_ptr<SessionExport>> SessionExport::start(fs::path sessionsDir, ExportRequest request) {
+  if (Status s = checkExportDestination(request.dest, request.allowAnyDir); !s) return fail(s.error());
+  std::unique_ptr<SessionExport> e(new SessionExport(std::move(sessionsDir), std::move(request)));
+  e->thread_ = std::thread([p = e.get()] { p->run(); });
+  return e;
+}
+
+SessionExport::SessionExport(fs::path sessionsDir, ExportRequest request)
+    : sessionsDir_(std::move(sessionsDir)), request_(std::move(request)) {}
+
+SessionExport::~SessionExport() {
+  if (thread_.joinable()) thread_.join();
+}
+
+SessionStore::ExportProgress SessionExport::progress() const {
+  std::lock_guard lock(m_);
+  return progress_;
+}
+
+void SessionExport::run() {
+  // A store of its own over the same folder: exportAll only reads the saved files.
+  const SessionStore store(sessionsDir_, {});
+  std::optional<SessionStore::Extra> current;
+  if (request_.currentJson)
+    current = SessionStore::Extra{*request_.currentJson, request_.currentPicture ? &*request_.currentPicture : nullptr};
+  auto r = store.exportAll(request_.dest, sanitizeName(request_.stamp), current, {}, request_.sinceUnix,
+                           [this](const SessionStore::ExportProgress& p) {
+                             std::lock_guard lock(m_);
+                             progress_ = p;
+                           });
+  {
+    std::lock_guard lock(m_);
+    result_ = std::move(r);
+  }
+  done_.store(true);
+}
+
+}  // namespace emboss

@@ -1,0 +1,294 @@
+// The kiosk's soak: KioskApp driven headless through many visitors, memory and descriptors watched.
+#include "bench/soak.h"
+
+#include <dirent.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/attract_library.h"
+#include "app/kiosk_app.h"
+#include "app/memory_display.h"
+#include "bench/piece_generator.h"
+
+namespace emboss {
+
+namespace fs = std::filesystem;
+
+namespace {
+long statusKib(const char* key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const size_t n = std::strlen(key);
+  while (std::getline(in, line))
+    if (line.compare(0, n, key) == 0) return std::strtol(line.c_str() + n, nullptr, 10);
+  return -1;
+}
+}  // namespace
+
+long residentKib() { return statusKib("VmRSS:"); }
+long peakResidentKib() { return statusKib("VmHWM:"); }
+
+long openFds() {
+  DIR* d = ::opendir("/proc/self/fd");
+  if (!d) return -1;
+  long n = 0;
+  while (const dirent* e = ::readdir(d))
+    if (e->d_name[0] != '.') ++n;
+  ::closedir(d);
+  return n - 1;  // the directory stream's own
+}
+
+namespace {
+
+constexpr double kFrame = 1.0 / 60.0;  // the fake clock's step while a visitor works
+
+// Pen samples the soak hands the kiosk, taken at its next step.
+class ScriptPen final : public PenSource {
+ public:
+  std::string name() const override { return "soak script"; }
+  bool poll(std::vector<PenSample>& out) override {
+    out.insert(out.end(), queued.begin(), queued.end());
+    queued.clear();
+    return true;
+  }
+  std::vector<PenSample> queued;
+};
+
+class ScriptButtons final : public ButtonSource {
+ public:
+  std::string name() const override { return "soak buttons"; }
+  bool poll(std::vector<ButtonEvent>& out) override {
+    out.insert(out.end(), queued.begin(), queued.end());
+    queued.clear();
+    return true;
+  }
+  void tap(Action a, double t) {
+    queued.push_back({t, a, true, false});
+    queued.push_back({t, a, false, false});
+  }
+  std::vector<ButtonEvent> queued;
+};
+
+std::uintmax_t bytesOf(const fs::path& dir, bool journal) {
+  std::uintmax_t n = 0;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const bool isJournal = name.rfind("sessions.db", 0) == 0;
+    if (isJournal == journal) n += it->is_regular_file(ec) ? it->file_size(ec) : 0;
+  }
+  return n;
+}
+
+class Soak {
+ public:
+  Soak(const SoakOptions& o, std::FILE* out, fs::path sessions)
+      : o_(o), out_(out), display_(o.width, o.height), pieces_(builtinAttractPieces()), rng_(o.seed) {
+    config_.sessionsDir = std::move(sessions);
+    config_.exportDir = config_.sessionsDir.parent_path() / "export";
+    config_.threads = o.threads;
+    config_.attractSpeed = 8;
+    config_.retentionMb = 64;  // the journal and the files are pruned to 32 MB each, as a full card would be
+    config_.tablet = config_.buttons = config_.camera = "none";
+  }
+
+  SoakResult run() {
+    open();
+    const size_t every = o_.reportEvery ? o_.reportEvery : std::max<size_t>(1, o_.strokes / 20);
+    const size_t warmup = o_.warmup ? o_.warmup : o_.strokes / 10;
+    std::fprintf(out_, "soak: %zu strokes, %dx%d, %d render thread%s; baseline after %zu strokes\n\n", o_.strokes, o_.width,
+                 o_.height, o_.threads, o_.threads == 1 ? "" : "s", warmup);
+    std::fprintf(out_, "| strokes | visitors | restores | resets | attract cycles | attract pieces | RSS MB | peak RSS MB | fds | journal MB | session files MB | s |\n");
+    std::fprintf(out_, "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    row();
+    size_t nextRow = every;
+    long baseFd = -1;
+    std::vector<std::pair<size_t, long>> rss;  // (strokes, resident KiB) after every visitor after the warm-up
+    while (strokes_ < o_.strokes) {
+      visitor();
+      // Measured between visitors, the kiosk in attract mode or between two visitors: resident
+      // memory swings by tens of MB with what was shown last (the attract piece's field, a restart),
+      // so the verdict compares the lowest and the highest reading of the first window after the
+      // warm-up with those of the last window: a leak lifts both.
+      if (strokes_ >= warmup) {
+        if (baseFd < 0) {
+          baseFd = openFds();
+          if (warmup > 0 && strokes_ < nextRow) row();
+        }
+        rss.emplace_back(strokes_, residentKib());
+      }
+      if (strokes_ >= nextRow || strokes_ >= o_.strokes) {
+        row();
+        while (nextRow <= strokes_) nextRow += every;
+      }
+    }
+    const long endFd = openFds();
+    if (baseFd < 0) baseFd = endFd;
+    const auto window = [&](bool first) {
+      long lo = -1, hi = -1;
+      const size_t from = rss.empty() ? 0 : first ? rss.front().first : (strokes_ > every ? strokes_ - every : 0);
+      const size_t to = rss.empty() ? 0 : first ? rss.front().first + every : strokes_;
+      for (const auto& [n, kib] : rss)
+        if (n >= from && n <= to) lo = lo < 0 ? kib : std::min(lo, kib), hi = std::max(hi, kib);
+      return std::pair<long, long>{lo, hi};
+    };
+    const auto [firstLo, firstHi] = window(true);
+    const auto [lastLo, lastHi] = window(false);
+    SoakResult r;
+    r.floorGrowthMb = (lastLo - firstLo) / 1024.0;
+    r.peakGrowthMb = (lastHi - firstHi) / 1024.0;
+    r.fdGrowth = endFd - baseFd;
+    const bool memOk = r.floorGrowthMb < kSoakMaxRssGrowthMb && r.peakGrowthMb < kSoakMaxRssGrowthMb;
+    const bool fdOk = r.fdGrowth <= kSoakMaxFdGrowth;
+    const bool restoredOk = restoreMismatches_ == 0;
+    r.pass = memOk && fdOk && restoredOk;
+    std::fprintf(out_, "\nresident memory between visitors, lowest .. highest: %.1f .. %.1f MB in the first %zu strokes after the "
+                 "warm-up, %.1f .. %.1f MB in the last %zu: growth %+.2f MB (lowest), %+.2f MB (highest) (limit < %.0f MB): %s\n",
+                 firstLo / 1024.0, firstHi / 1024.0, every, lastLo / 1024.0, lastHi / 1024.0, every, r.floorGrowthMb,
+                 r.peakGrowthMb, kSoakMaxRssGrowthMb, memOk ? "PASS" : "FAIL");
+    std::fprintf(out_, "file descriptors: %ld after the warm-up, %ld at the end: growth %+ld (limit %ld): %s\n", baseFd, endFd,
+                 r.fdGrowth, kSoakMaxFdGrowth, fdOk ? "PASS" : "FAIL");
+    std::fprintf(out_, "restores: %zu, each with every stroke back: %s\n", restores_,
+                 restoredOk ? "PASS" : ("FAIL (" + std::to_string(restoreMismatches_) + " differed)").c_str());
+    std::fprintf(out_, "soak: %s\n", r.pass ? "PASS" : "FAIL");
+    app_.reset();
+    return r;
+  }
+
+ private:
+  void open() {
+    app_.reset();
+    app_ = std::make_unique<KioskApp>(config_, pieces_, display_, [](const std::string&) {}, [this] { return t_; });
+    app_->setPen(&pen_, PenMapping::Tablet);
+    app_->addButtons(&buttons_);
+    lastPiece_ = app_->attract().pieceIndex();
+  }
+
+  void step(double dt) {
+    t_ += dt;
+    app_->step();
+    if (app_->attract().pieceIndex() != lastPiece_) lastPiece_ = app_->attract().pieceIndex(), ++piecesPlayed_;
+  }
+  void settle() {
+    for (int i = 0; i < 40 && app_->busy(); ++i) step(kFrame);
+  }
+
+  // One stroke: the tip down, a short drag across the sheet, the tip up.
+  void stroke() {
+    const double x = rng_.uniform(0.15, 0.85), y = rng_.uniform(0.15, 0.85);
+    const double dx = rng_.uniform(-0.03, 0.03), dy = rng_.uniform(-0.03, 0.03);
+    const int n = 1 + rng_.below(4);
+    for (int i = 0; i <= n; ++i)
+      pen_.queued.push_back({t_ + i * 0.01, x + dx * i, y + dy * i, rng_.uniform(0.3, 1.0), true, true, false, false});
+    pen_.queued.push_back({t_ + (n + 1) * 0.01, x + dx * n, y + dy * n, 0.0, false, true, false, false});
+    step(kFrame);
+    settle();
+    ++strokes_;
+  }
+
+  void tap(Action a) {
+    buttons_.tap(a, t_);
+    step(kFrame);
+    settle();
+  }
+
+  // A visitor: strokes with undo and redo, a tool or metal now and then, maybe a new sheet; the
+  // kiosk killed and restarted mid-session now and then (the journal brings the session back);
+  // then the visitor leaves (the idle timeout, or staff reset from embossctl) and attract plays.
+  void visitor() {
+    ++visitors_;
+    const size_t n = 20 + size_t(rng_.below(180));
+    const bool crash = o_.restartEvery > 0 && visitors_ % o_.restartEvery == o_.restartEvery / 2;
+    for (size_t i = 0; i < n && strokes_ < o_.strokes; ++i) {
+      stroke();
+      if (rng_.chance(0.15)) tap(Action::Undo);
+      if (rng_.chance(0.05)) tap(Action::Redo);
+      if (rng_.chance(0.03)) tap(Action::NextTool);
+      if (rng_.chance(0.01)) tap(Action::NextMetal);
+      if (rng_.chance(0.005)) tap(Action::NewSheet);
+      if (crash && i == n / 2) restart();
+    }
+    if (visitors_ % 5 == 0) {
+      app_->staffCommand(R"({"cmd":"reset"})");
+      ++resets_;
+    } else {
+      pen_.queued.push_back({t_, 0.5, 0.5, 0, false, false, false, false});  // the pen put down
+      step(config_.idleSeconds + 0.5);
+      step(config_.countdownSeconds + 0.5);
+    }
+    for (int i = 0; i < 4 && app_->mode() != KioskMode::Attract; ++i) step(1.0);
+    // Now and then the attract loop plays before the next visitor comes (the kiosk caps its steps at 0.25 s).
+    if (o_.attractEvery > 0 && visitors_ % o_.attractEvery == 0) {
+      for (double played = 0; played < o_.attractSeconds; played += 0.2) step(0.2);
+      ++attractCycles_;
+    }
+    settle();
+  }
+
+  // The kiosk stops without ending the session (a crash, a watchdog restart) and starts again.
+  void restart() {
+    app_->journalFlush(10.0);
+    const std::uint64_t made = app_->bench().strokesMade();
+    const size_t active = app_->bench().model().activeCount();
+    open();
+    ++restores_;
+    if (app_->bench().strokesMade() != made || app_->bench().model().activeCount() != active) ++restoreMismatches_;
+  }
+
+  void row() {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+    std::fprintf(out_, "| %zu | %zu | %zu | %zu | %zu | %zu | %.1f | %.1f | %ld | %.1f | %.1f | %.0f |\n", strokes_, visitors_, restores_,
+                 resets_, attractCycles_, piecesPlayed_, residentKib() / 1024.0, peakResidentKib() / 1024.0, openFds(), bytesOf(config_.sessionsDir, true) / 1048576.0,
+                 bytesOf(config_.sessionsDir, false) / 1048576.0, s);
+    std::fflush(out_);
+  }
+
+  SoakOptions o_;
+  std::FILE* out_;
+  KioskConfig config_;
+  MemoryDisplay display_;
+  std::vector<AttractPiece> pieces_;
+  PieceRandom rng_;
+  ScriptPen pen_;
+  ScriptButtons buttons_;
+  std::unique_ptr<KioskApp> app_;
+  double t_ = 1000.0;
+  size_t strokes_ = 0, visitors_ = 0, attractCycles_ = 0, restores_ = 0, resets_ = 0, piecesPlayed_ = 0, restoreMismatches_ = 0;
+  size_t lastPiece_ = 0;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+SoakResult runSoak(const SoakOptions& options, std::FILE* out) {
+  fs::path dir = options.dir;
+  const bool temporary = dir.empty();
+  if (temporary) {
+    std::string tmpl = (fs::temp_directory_path() / "emboss-soak-XXXXXX").string();
+    if (!::mkdtemp(tmpl.data())) {
+      std::fprintf(out, "soak: cannot make a temporary folder\n");
+      return {};
+    }
+    dir = tmpl;
+  }
+  SoakResult r;
+  {
+    Soak soak(options, out, dir / "sessions");
+    r = soak.run();
+  }
+  if (temporary) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  return r;
+}
+
+}  // namespace emboss

@@ -1,0 +1,32 @@
+// Stroke-to-screen latency: the figures over every update, and storage that does not grow with them.
+#include "app/frame_meter.h"
+
+#include <gtest/gtest.h>
+
+namespace emboss {
+namespace {
+
+TEST(LatencyMeter, KeepsFiguresForEveryUpdateButOnlyAWindowOfSamples) {
+  LatencyMeter m;
+  EXPECT_EQ(m.count(), 0u);
+  EXPECT_EQ(m.percentileMs(95), 0.0);
+  // Months of strokes: 1, 2, ... ms; the earliest unshown event counts.
+  const size_t n = 3 * LatencyMeter::kWindow + 17;
+  for (size_t i = 1; i <= n; ++i) {
+    m.madeOperation(10.0);
+    m.madeOperation(10.5);  // later: the first one is kept
+    m.presented(10.0 + double(i) / 1000.0);
+  }
+  EXPECT_EQ(m.count(), n);
+  EXPECT_LE(m.kept(), LatencyMeter::kWindow);
+  EXPECT_NEAR(m.meanMs(), (double(n) + 1) / 2, 1e-6);
+  EXPECT_NEAR(m.maxMs(), double(n), 1e-6);
+  // The percentiles are over the last kWindow updates: n - kWindow + 1 .. n ms.
+  EXPECT_NEAR(m.percentileMs(0), double(n - LatencyMeter::kWindow + 1), 1e-6);
+  EXPECT_NEAR(m.percentileMs(100), double(n), 1e-6);
+  m.presented(99.0);  // nothing pending: nothing counted
+  EXPECT_EQ(m.count(), n);
+}
+
+}  // namespace
+}  // namespace emboss

@@ -1,0 +1,38 @@
+// The kiosk's soak (src/bench/soak.h) on a short run: it drives the kiosk through visitors,
+// restores and attract cycles and reads the process's memory and descriptors.
+#include "bench/soak.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "test_support.h"
+
+namespace emboss {
+namespace {
+
+TEST(KioskSoakSlow, AShortRunKeepsItsDescriptorsAndBringsEveryRestoreBack) {
+  SoakOptions o;
+  o.strokes = 400;
+  o.warmup = 100;
+  o.attractEvery = 2;
+  o.attractSeconds = 1;
+  o.dir = test::scratchDir("soak");
+  std::FILE* out = std::tmpfile();
+  ASSERT_NE(out, nullptr);
+  const SoakResult r = runSoak(o, out);
+  std::rewind(out);
+  std::string text;
+  for (int c; (c = std::fgetc(out)) != EOF;) text += char(c);
+  std::fclose(out);
+  EXPECT_EQ(r.fdGrowth, 0) << text;
+  EXPECT_NE(text.find("| 400 |"), std::string::npos) << text;  // the last row
+  EXPECT_NE(text.find("restores: 1, each with every stroke back: PASS"), std::string::npos) << text;
+  EXPECT_GT(residentKib(), 0);
+  EXPECT_GE(peakResidentKib(), residentKib());
+  EXPECT_GT(openFds(), 2);  // stdin, stdout, stderr at least
+}
+
+}  // namespace
+}  // namespace emboss
