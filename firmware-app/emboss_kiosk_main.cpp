@@ -36,6 +36,7 @@
 #include "staff_socket.h"
 #include "system_notify.h"
 #include "util/progress_beat.h"
+#include "util/heap_release.h"
 #include "version.h"
 
 namespace fs = std::filesystem;
@@ -162,6 +163,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return cli.exit(e) == 0 ? 0 : 2;
   }
+  emboss::tuneHeapForKiosk();  // the kiosk's memory comes back down after each piece (util/heap_release.h)
   if (!writePiecesDir.empty()) return writePieces(writePiecesDir);
   if (checkConfig->count() > 0) {
     const fs::path file = !checkConfigPath.empty() ? checkConfigPath : !configPath.empty() ? configPath : kDefaultConfig;

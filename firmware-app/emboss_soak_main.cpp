@@ -7,6 +7,7 @@
 
 #include "app/kiosk_config.h"
 #include "bench/soak.h"
+#include "util/heap_release.h"
 #include "version.h"
 
 int main(int argc, char** argv) {
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return cli.exit(e) == 0 ? 0 : 2;
   }
+  emboss::tuneHeapForKiosk();  // the kiosk's memory comes back down after each piece (util/heap_release.h)
   if (!emboss::parseSizeWxH(size, o.width, o.height)) {
     std::fprintf(stderr, "emboss-soak: --size must be WxH, e.g. 96x60, not '%s'\n", size.c_str());
     return 2;

@@ -59,6 +59,7 @@ install(FILES ${PROJECT_BINARY_DIR}/debian/changelog.gz DESTINATION ${CMAKE_INST
 find_program(HELP2MAN help2man)
 if(HELP2MAN)
   set(EMBOSS_MAN_PAGES "")
+  file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/man)  # help2man writes there; not every generator makes it
   # program | section | the option that prints the whole help | one line for NAME. The sections
   # help2man cannot see (files, exit status, see also) are in platform/debian/man/PROGRAM.h2m.
   foreach(entry "emboss|1|--help-all|render, evaluate and export virtual embossing scenes"

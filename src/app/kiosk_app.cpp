@@ -9,6 +9,7 @@
 #include "app/kiosk_app_detail.h"
 #include "app/memory_display.h"
 #include "frep/workpieces.h"
+#include "util/heap_release.h"
 
 namespace emboss {
 
@@ -179,6 +180,7 @@ void KioskApp::handleEvents(double now) {
         discardCapture("the visitor left");
         bench_->resetForVisitor(now);
         startAttract(now, attract_->empty() ? 0 : (attract_->pieceIndex() + 1) % attract_->size(), 0.0);
+        releaseFreeHeap();  // a quiet moment: what the visitor's piece held goes back to the system
         break;
       case KioskEvent::StaffEntered:
         bench_->penAway();

@@ -20,11 +20,24 @@ namespace {
 
 constexpr double kRetrySeconds = 2.0;  // a write the disk refused is tried again this often
 
+// The two tables, as SQLite keeps their text in sqlite_master (without "IF NOT EXISTS").
+#define EMBOSS_SESSIONS_TABLE                                                                       \
+  "sessions(id INTEGER PRIMARY KEY, started REAL NOT NULL, last REAL NOT NULL,"                    \
+  " ended REAL NOT NULL DEFAULT 0, head TEXT NOT NULL, crc INTEGER NOT NULL)"
+#define EMBOSS_RECORDS_TABLE                                                                        \
+  "records(session INTEGER NOT NULL, seq INTEGER NOT NULL, kind TEXT NOT NULL,"                    \
+  " idx INTEGER NOT NULL, body TEXT NOT NULL, crc INTEGER NOT NULL, PRIMARY KEY(session, seq)) WITHOUT ROWID"
 const char* const kSchema =
-    "CREATE TABLE IF NOT EXISTS sessions(id INTEGER PRIMARY KEY, started REAL NOT NULL, last REAL NOT NULL,"
-    " ended REAL NOT NULL DEFAULT 0, head TEXT NOT NULL, crc INTEGER NOT NULL);"
-    "CREATE TABLE IF NOT EXISTS records(session INTEGER NOT NULL, seq INTEGER NOT NULL, kind TEXT NOT NULL,"
-    " idx INTEGER NOT NULL, body TEXT NOT NULL, crc INTEGER NOT NULL, PRIMARY KEY(session, seq)) WITHOUT ROWID;";
+    "CREATE TABLE IF NOT EXISTS " EMBOSS_SESSIONS_TABLE ";"
+    "CREATE TABLE IF NOT EXISTS " EMBOSS_RECORDS_TABLE ";";
+const char* const kSessionsSql = "CREATE TABLE " EMBOSS_SESSIONS_TABLE;
+const char* const kRecordsSql = "CREATE TABLE " EMBOSS_RECORDS_TABLE;
+#undef EMBOSS_SESSIONS_TABLE
+#undef EMBOSS_RECORDS_TABLE
+
+// Session ids a kiosk can reach (one a minute for two thousand years is far below); a store with
+// larger ones was not written by the kiosk, and the next id must not overflow.
+constexpr std::int64_t kMaxSessionId = std::int64_t(1) << 40;
 
 // A prepared statement that finalizes itself.
 class Stmt {
@@ -65,6 +78,29 @@ bool exec(sqlite3* db, const char* sql, std::string* error = nullptr) {
   if (rc != SQLITE_OK && error) *error = msg ? msg : sqlite3_errstr(rc);
   sqlite3_free(msg);
   return rc == SQLITE_OK;
+}
+
+// Empty when the store holds exactly the kiosk's two tables and sane ids, else what is foreign
+// about it: a database with other tables, triggers, views or columns of the same names would
+// take the store's writes into something else, or refuse them for good.
+std::string foreignSchema(sqlite3* db) {
+  Stmt s(db, "SELECT type, name, sql FROM sqlite_master");
+  if (!s.ok()) return errorOf(db, "schema");
+  int ours = 0;
+  int rc;
+  while ((rc = s.step()) == SQLITE_ROW) {
+    const std::string type = s.text(0), name = s.text(1), sql = s.text(2);
+    if (type == "table" && name == "sessions" && sql == kSessionsSql) ++ours;
+    else if (type == "table" && name == "records" && sql == kRecordsSql) ++ours;
+    else if (type == "index" && name.rfind("sqlite_autoindex_", 0) == 0 && sqlite3_column_type(s.get(), 2) == SQLITE_NULL) continue;
+    else return "foreign schema: " + type + " " + name;
+  }
+  if (rc != SQLITE_DONE) return errorOf(db, "schema");
+  if (ours != 2) return "foreign schema: tables missing";
+  Stmt ids(db, "SELECT COUNT(*) FROM sessions WHERE id < 1 OR id > ?");
+  if (!ids.ok() || ids.bind(1, kMaxSessionId).step() != SQLITE_ROW) return errorOf(db, "ids");
+  if (ids.i64(0) != 0) return "foreign schema: session ids out of range";
+  return {};
 }
 
 }  // namespace
@@ -117,6 +153,7 @@ void SessionJournal::open() {
         else why = errorOf(db_, "quick_check");
         if (why.empty() && check != "ok") why = "quick_check: " + check;
         if (why.empty() && !exec(db_, kSchema, &err)) why = err;
+        if (why.empty()) why = foreignSchema(db_);
       }
     }
     if (why.empty()) break;
@@ -163,7 +200,8 @@ bool SessionJournal::salvage(const std::string& why) {
   if (sqlite3_open_v2(aside.c_str(), &old, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
     exec(fresh, "BEGIN");
     {
-      Stmt in(old, "SELECT id, started, last, ended, head, crc FROM sessions");
+      Stmt in(old, "SELECT id, started, last, ended, head, crc FROM sessions WHERE id >= 1 AND id <= ?");
+      if (in.ok()) in.bind(1, kMaxSessionId);
       Stmt out(fresh, "INSERT OR IGNORE INTO sessions VALUES(?,?,?,?,?,?)");
       while (in.ok() && out.ok() && in.step() == SQLITE_ROW) {
         out.bind(1, in.i64(0)).bind(2, in.real(1)).bind(3, in.real(2)).bind(4, in.real(3)).bind(5, in.text(4)).bind(6, in.i64(5));
@@ -172,7 +210,8 @@ bool SessionJournal::salvage(const std::string& why) {
       }
     }
     {
-      Stmt in(old, "SELECT session, seq, kind, idx, body, crc FROM records");
+      Stmt in(old, "SELECT session, seq, kind, idx, body, crc FROM records WHERE session >= 1 AND session <= ?");
+      if (in.ok()) in.bind(1, kMaxSessionId);
       Stmt out(fresh, "INSERT OR IGNORE INTO records VALUES(?,?,?,?,?,?)");
       while (in.ok() && out.ok() && in.step() == SQLITE_ROW) {
         out.bind(1, in.i64(0)).bind(2, in.i64(1)).bind(3, in.text(2)).bind(4, in.i64(3)).bind(5, in.text(4)).bind(6, in.i64(5));

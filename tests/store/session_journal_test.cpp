@@ -111,6 +111,51 @@ TEST_F(JournalTest, AFileThatIsNotADatabaseIsMovedAsideAndTheJournalWorks) {
   EXPECT_TRUE(j.unfinished());
 }
 
+
+// A database that is sound but not the kiosk's (a column renamed, a trigger, an absurd id) would
+// take or refuse the writes for good: it is moved aside like a damaged one, what fits is kept.
+TEST_F(JournalTest, ADatabaseWithAForeignSchemaIsMovedAsideAndTheJournalWorks) {
+  const char* foreign[] = {
+      // The records table without its crc column (what a fuzzer found).
+      "CREATE TABLE sessions(id INTEGER PRIMARY KEY, started REAL NOT NULL, last REAL NOT NULL,"
+      " ended REAL NOT NULL DEFAULT 0, head TEXT NOT NULL, crc INTEGER NOT NULL);"
+      "CREATE TABLE records(session INTEGER NOT NULL, seq INTEGER NOT NULL, kind TEXT NOT NULL,"
+      " idx INTEGER NOT NULL, body TEXT NOT NULL, cI crNTEGER NOT NULL, PRIMARY KEY(session, seq)) WITHOUT ROWID;"
+      "INSERT INTO sessions VALUES(4, 1, 2, 0, '{\"kept\":1}', 0);",
+      // A trigger that refuses every record.
+      "CREATE TABLE sessions(id INTEGER PRIMARY KEY, started REAL NOT NULL, last REAL NOT NULL,"
+      " ended REAL NOT NULL DEFAULT 0, head TEXT NOT NULL, crc INTEGER NOT NULL);"
+      "CREATE TRIGGER no BEFORE INSERT ON sessions BEGIN SELECT RAISE(ABORT, 'no'); END;",
+      // A session id the next one would overflow from.
+      "CREATE TABLE sessions(id INTEGER PRIMARY KEY, started REAL NOT NULL, last REAL NOT NULL,"
+      " ended REAL NOT NULL DEFAULT 0, head TEXT NOT NULL, crc INTEGER NOT NULL);"
+      "INSERT INTO sessions VALUES(9223372036854775807, 1, 2, 1, '{}', 0);"
+      "INSERT INTO sessions VALUES(4, 1, 2, 0, '{\"kept\":1}', 0);",
+  };
+  for (const char* sql : foreign) {
+    SCOPED_TRACE(sql);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open((dir / "sessions.db").c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, sql, nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(db);
+    lines.clear();
+    SessionJournal j(dir, log);
+    ASSERT_TRUE(j.ok());
+    EXPECT_TRUE(logged("foreign schema"));
+    EXPECT_TRUE(logged("moved aside"));
+    for (const auto& s : j.list()) EXPECT_LE(s.id, std::int64_t(1) << 40);
+    const auto id = j.begin("{}");
+    EXPECT_GT(id, 0);
+    j.operations(0, {"{}"});
+    ASSERT_TRUE(j.flush(10));
+    const auto s = j.unfinished();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->id, id);
+    EXPECT_EQ(s->operations.size(), 1u);
+  }
+}
 TEST_F(JournalTest, AFolderThatCannotBeWrittenLeavesTheJournalOffNotTheKiosk) {
   fs::create_directories(dir);
   { std::ofstream f(dir / "not-a-folder"); }
