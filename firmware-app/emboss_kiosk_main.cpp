@@ -118,6 +118,12 @@ PointerEvent toPointer(const X11Event& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First of all: a SIGTERM that comes while the kiosk is still starting ends it with status 0 too.
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGINT, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
   CLI::App cli{"emboss-kiosk: the virtual embossing exhibit (attract mode, the visitor's bench, staff mode)"};
   std::string display, tablet, buttons, camera, configPath, size, snapshot, sessionOut, sessionsDir, piecesDir, exportDir, writePiecesDir;
   bool attractOnly = false, staff = false, fast = false, stats = false;
@@ -210,12 +216,13 @@ int main(int argc, char** argv) {
       return 2;
     }
 
-    struct sigaction sa {};
-    sa.sa_handler = onSignal;
-    sigaction(SIGTERM, &sa, nullptr);
-    sigaction(SIGINT, &sa, nullptr);
-    signal(SIGPIPE, SIG_IGN);
     auto notifier = createSystemNotifier();
+    // A stop asked for while starting ends the start with status 0: nothing a visitor made is in
+    // memory yet (an unfinished session is in the journal, and comes back at the next start).
+    const auto stoppedWhileStarting = [&] {
+      if (gStop) logLine("stopping (signal) before the first frame");
+      return gStop != 0;
+    };
 
     // ---- the display: the one asked for, else the memory fallback (auto only)
     std::string tries;
@@ -237,6 +244,7 @@ int main(int argc, char** argv) {
     } else {
       made = createDisplay(config.display, config.width, config.height, &tries);
     }
+    if (stoppedWhileStarting()) return 0;
     std::unique_ptr<Display> screen;
     if (made) {
       screen = std::move(*made);
@@ -270,6 +278,7 @@ int main(int argc, char** argv) {
       logLine("attract: playing the " + std::to_string(pieces.size()) + " built-in pieces");
     }
 
+    if (stoppedWhileStarting()) return 0;
     const auto clock = [] { return monotonicSeconds(); };
     KioskStart start;
     start.staff = staff;
@@ -506,7 +515,7 @@ int main(int argc, char** argv) {
     feeder.stop = true;
     if (feeder.thread.joinable()) feeder.thread.join();
     notifier->stopping();
-    app.finish();
+    app.finish(!snapshot.empty());  // the screen's last frame traced to the end only for a snapshot
     int rc = 0;
     if (!snapshot.empty()) {
       Status s = app.writeSnapshot(snapshot);

@@ -461,7 +461,11 @@ bool KioskApp::step() {
   return !quit_;
 }
 
-void KioskApp::finish() {
+void KioskApp::finish(bool completeFrame) {
+  if (export_) {  // an export under way stops between two files; what it copied is complete
+    export_->stop();
+    pollExport();
+  }
   const double now = clock_();
   // Take what is still queued (a recording fed with --fast), then end any stroke.
   while (!queue_.empty()) {
@@ -476,6 +480,7 @@ void KioskApp::finish() {
     bench_->update(now + 60.0);  // a turn under way ends where it was going
     saveSession("the kiosk is stopping");
   }
+  if (!completeFrame) return;
   std::vector<Rect> changed;
   if (visitor) {
     ViewChanges ch = bench_->takeChanges();

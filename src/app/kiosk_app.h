@@ -97,9 +97,10 @@ class KioskApp {
   // The last capture's outcome as shown to the visitor (empty once it has faded).
   const std::string& captureMessage() const { return capture_.message; }
 
-  // At exit: ends a stroke in progress, saves a visitor's session (nothing is lost on shutdown),
-  // finishes tracing and presents the last frame.
-  void finish();
+  // At exit: ends a stroke in progress, saves a visitor's session (nothing is lost on shutdown; its
+  // picture is traced to the end), and with `completeFrame` finishes tracing the screen and
+  // presents the last frame (for a snapshot; without, SIGTERM is not kept waiting for a frame).
+  void finish(bool completeFrame = true);
   // The last frame as on screen (overlay included), as a PNG written atomically.
   Status writeSnapshot(const std::filesystem::path& path);
   // The visitor's session as a scene file: the one in progress, else the last one saved this run,

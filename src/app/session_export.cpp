@@ -17,7 +17,10 @@ Result<std::unique_ptr<SessionExport>> SessionExport::start(fs::path sessionsDir
 SessionExport::SessionExport(fs::path sessionsDir, ExportRequest request)
     : sessionsDir_(std::move(sessionsDir)), request_(std::move(request)) {}
 
-SessionExport::~SessionExport() {
+SessionExport::~SessionExport() { stop(); }
+
+void SessionExport::stop() {
+  stop_.store(true);
   if (thread_.joinable()) thread_.join();
 }
 
@@ -36,7 +39,8 @@ void SessionExport::run() {
                            [this](const SessionStore::ExportProgress& p) {
                              std::lock_guard lock(m_);
                              progress_ = p;
-                           });
+                           },
+                           &stop_);
   {
     std::lock_guard lock(m_);
     result_ = std::move(r);

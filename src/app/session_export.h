@@ -30,10 +30,13 @@ class SessionExport {
   // Checks the destination (a mounted file system other than the root's, unless allowAnyDir) and
   // starts copying from `sessionsDir`. A refusal is returned at once, with the reason.
   static Result<std::unique_ptr<SessionExport>> start(std::filesystem::path sessionsDir, ExportRequest request);
-  ~SessionExport();  // waits for the copying to end
+  ~SessionExport();  // stops the copying between two files (the kiosk is stopping) and waits for it
   SessionExport(const SessionExport&) = delete;
   SessionExport& operator=(const SessionExport&) = delete;
 
+  // Stops the copying between two files and waits for it: done() is then true, and result() says
+  // how far it got.
+  void stop();
   const std::filesystem::path& dest() const { return request_.dest; }
   SessionStore::ExportProgress progress() const;
   bool done() const { return done_.load(); }
@@ -50,6 +53,7 @@ class SessionExport {
   SessionStore::ExportProgress progress_;
   Result<SessionStore::ExportSummary> result_ = fail("the export has not finished");
   std::atomic<bool> done_{false};
+  std::atomic<bool> stop_{false};
   std::thread thread_;
 };
 

@@ -97,7 +97,8 @@ std::vector<fs::path> SessionStore::list() const {
 Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& target, const std::string& stamp,
                                                             const std::optional<Extra>& current,
                                                             const SpaceProbe& spaceIn, double sinceUnix,
-                                                            const ExportProgressSink& progress) const {
+                                                            const ExportProgressSink& progress,
+                                                            const std::atomic<bool>* stop) const {
   std::error_code ec;
   if (!fs::is_directory(target, ec))
     return fail("export: '" + target.string() + "' is not a folder (is the USB stick in?)");
@@ -137,8 +138,16 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
   sum.folder = target / ("emboss-sessions-" + stamp);
   fs::create_directories(sum.folder, ec);
   if (ec) return fail("export: cannot create '" + sum.folder.string() + "': " + ec.message());
+  const auto stopped = [&]() -> Result<ExportSummary> {
+    Status s = syncDirectory(sum.folder);
+    if (s) s = syncDirectory(target);
+    return fail("export: stopped (the kiosk is stopping) after " + std::to_string(done.sessionsDone) + " of " +
+                std::to_string(done.sessions) + " sessions; the " + std::to_string(sum.files) + " files copied are complete" +
+                (s ? "" : " (" + s.error() + ")"));
+  };
   for (const auto& files : sessions) {
     for (const auto& f : files) {
+      if (stop && stop->load()) return stopped();
       std::ifstream in(f, std::ios::binary);
       if (!in) return fail("export: cannot read '" + f.string() + "': " + std::strerror(errno) + " (" + std::to_string(sum.files) + " files copied)");
       std::stringstream ss;
@@ -152,6 +161,7 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
     ++done.sessionsDone;
     report();
   }
+  if (current && stop && stop->load()) return stopped();
   if (current) {
     const fs::path json = sum.folder / ("current-" + stamp + ".json"), png = sum.folder / ("current-" + stamp + ".png");
     Status s = writeFileAtomically(json, current->json);

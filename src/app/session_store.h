@@ -1,6 +1,8 @@
 // Visitors' sessions on disk: saved atomically (scene file + picture), never lost, exported by staff.
 #pragma once
 
+#include <atomic>
+
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -62,10 +64,11 @@ class SessionStore {
   // never touched. With `sinceUnix`, only sessions saved since then. Every file and folder written
   // is fsynced before the export counts as done. `progress` (when given) hears of the start and of
   // every session copied, on the calling thread. Const and touching nothing but the files: another
-  // thread may run it on a copy of the store.
+  // thread may run it on a copy of the store. `stop` (when given and set) ends it between two
+  // files: what was copied is complete and durable, and the result says how far it got.
   Result<ExportSummary> exportAll(const std::filesystem::path& target, const std::string& stamp,
                                   const std::optional<Extra>& current, const SpaceProbe& space = {}, double sinceUnix = 0,
-                                  const ExportProgressSink& progress = {}) const;
+                                  const ExportProgressSink& progress = {}, const std::atomic<bool>* stop = nullptr) const;
 
  private:
   struct Pending {
