@@ -18,7 +18,7 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kRetrySeconds = 2.0;  // a write the disk refused is tried again this often
+constexpr double kRetrySeconds = 1.0;  // a write the disk refused is tried again this often (recovery within 2 s)
 
 // The two tables, as SQLite keeps their text in sqlite_master (without "IF NOT EXISTS").
 #define EMBOSS_SESSIONS_TABLE                                                                       \
