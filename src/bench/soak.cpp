@@ -50,33 +50,6 @@ namespace {
 
 constexpr double kFrame = 1.0 / 60.0;  // the fake clock's step while a visitor works
 
-// Pen samples the soak hands the kiosk, taken at its next step.
-class ScriptPen final : public PenSource {
- public:
-  std::string name() const override { return "soak script"; }
-  bool poll(std::vector<PenSample>& out) override {
-    out.insert(out.end(), queued.begin(), queued.end());
-    queued.clear();
-    return true;
-  }
-  std::vector<PenSample> queued;
-};
-
-class ScriptButtons final : public ButtonSource {
- public:
-  std::string name() const override { return "soak buttons"; }
-  bool poll(std::vector<ButtonEvent>& out) override {
-    out.insert(out.end(), queued.begin(), queued.end());
-    queued.clear();
-    return true;
-  }
-  void tap(Action a, double t) {
-    queued.push_back({t, a, true, false});
-    queued.push_back({t, a, false, false});
-  }
-  std::vector<ButtonEvent> queued;
-};
-
 std::uintmax_t bytesOf(const fs::path& dir, bool journal) {
   std::uintmax_t n = 0;
   std::error_code ec;
@@ -257,8 +230,8 @@ class Soak {
   MemoryDisplay display_;
   std::vector<AttractPiece> pieces_;
   PieceRandom rng_;
-  ScriptPen pen_;
-  ScriptButtons buttons_;
+  QueuedPen pen_;
+  QueuedButtons buttons_;
   std::unique_ptr<KioskApp> app_;
   double t_ = 1000.0;
   size_t strokes_ = 0, visitors_ = 0, attractCycles_ = 0, restores_ = 0, resets_ = 0, piecesPlayed_ = 0, restoreMismatches_ = 0;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace emboss {
@@ -40,6 +41,27 @@ class ButtonSource {
   // Appends the events available now; false when the device is gone.
   virtual bool poll(std::vector<ButtonEvent>& out) = 0;
   virtual int fd() const { return -1; }
+};
+
+// Button events handed in by the program itself (the soak benchmark, tests), taken at the next poll.
+class QueuedButtons final : public ButtonSource {
+ public:
+  explicit QueuedButtons(std::string name = "queued buttons") : name_(std::move(name)) {}
+  std::string name() const override { return name_; }
+  bool poll(std::vector<ButtonEvent>& out) override {
+    out.insert(out.end(), queued.begin(), queued.end());
+    queued.clear();
+    return true;
+  }
+  // A short press and release of `a` at time t.
+  void tap(Action a, double t) {
+    queued.push_back({t, a, true, false});
+    queued.push_back({t, a, false, false});
+  }
+  std::vector<ButtonEvent> queued;
+
+ private:
+  std::string name_;
 };
 
 }  // namespace emboss

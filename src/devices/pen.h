@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace emboss {
@@ -35,6 +36,22 @@ class PenSource {
   virtual int fd() const { return -1; }
   // True when a recording has been played to its end.
   virtual bool finished() const { return false; }
+};
+
+// Pen samples handed in by the program itself (the soak benchmark, tests), taken at the next poll.
+class QueuedPen final : public PenSource {
+ public:
+  explicit QueuedPen(std::string name = "queued pen") : name_(std::move(name)) {}
+  std::string name() const override { return name_; }
+  bool poll(std::vector<PenSample>& out) override {
+    out.insert(out.end(), queued.begin(), queued.end());
+    queued.clear();
+    return true;
+  }
+  std::vector<PenSample> queued;
+
+ private:
+  std::string name_;
 };
 
 }  // namespace emboss

@@ -26,7 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::demoSamples;
-using test::FakeButtons;
 using test::kH;
 using test::kW;
 using test::testConfig;
@@ -165,7 +164,7 @@ TEST(KioskApp, IdleVisitorIsSavedAndAttractResumes) {
   MemoryDisplay display(kW, kH);
   KioskConfig config = testConfig(dir);
   KioskApp app(config, tinyPieces(), display, {}, [&] { return t; });
-  FakeButtons buttons;
+  QueuedButtons buttons;
   app.addButtons(&buttons);
   // A visitor's tap (three samples: hover, touch, lift) with the punch.
   buttons.tap(Action::NextTool, t);  // wakes the kiosk, and is carried out: the wide tracer
@@ -208,7 +207,7 @@ TEST(KioskApp, NewSheetSavesTheOldOneAndUndoNeverLosesTheSession) {
   double t = 0;
   MemoryDisplay display(kW, kH);
   KioskApp app(testConfig(dir), tinyPieces(), display, {}, [&] { return t; });
-  FakeButtons buttons;
+  QueuedButtons buttons;
   app.addButtons(&buttons);
   std::vector<PenSample> s;
   for (int i = 0; i <= 40; ++i) s.push_back({i * 0.005, 0.3 + 0.01 * i, 0.5, 0.6, true, true});
@@ -266,7 +265,7 @@ TEST(KioskApp, CapturedDrawingIsOfferedThenEmbossedAsOneStrokeOrPutAway) {
   MemoryDisplay display(kW, kH);
   std::vector<std::string> log;
   KioskApp app(testConfig(dir), tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; });
-  FakeButtons buttons;
+  QueuedButtons buttons;
   app.addButtons(&buttons);
 
   // No camera: the press wakes the kiosk and says so, nothing else.

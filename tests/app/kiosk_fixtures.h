@@ -18,21 +18,6 @@ namespace emboss::test {
 namespace fs = std::filesystem;
 inline constexpr int kW = 480, kH = 300;
 
-class FakeButtons final : public ButtonSource {
- public:
-  std::string name() const override { return "fake buttons"; }
-  bool poll(std::vector<ButtonEvent>& out) override {
-    out.insert(out.end(), queued.begin(), queued.end());
-    queued.clear();
-    return true;
-  }
-  void tap(Action a, double t) {
-    queued.push_back({t, a, true, false});
-    queued.push_back({t, a, false, false});
-  }
-  std::vector<ButtonEvent> queued;
-};
-
 inline std::vector<PenSample> demoSamples() {
   auto rec = parseEvemu(test::visitorDemoRecording());
   EXPECT_TRUE(rec) << (rec ? "" : rec.error());

@@ -16,7 +16,6 @@ namespace emboss {
 namespace {
 
 namespace fs = std::filesystem;
-using test::FakeButtons;
 using test::kH;
 using test::kW;
 using test::testConfig;
@@ -31,23 +30,32 @@ void stepUntilExported(KioskApp& app) {
   ASSERT_FALSE(app.exporting());
 }
 
+// A session saved earlier (session-20240101-120000.json), for the staff screen to export.
+::testing::AssertionResult saveOneSession(const KioskConfig& config) {
+  fs::create_directories(config.sessionsDir);
+  Scene s;
+  s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
+  Model m(s.workpiece, Deformation::Sheet);
+  if (Status st = saveScene(s, &m, config.sessionsDir / "session-20240101-120000.json"); !st)
+    return ::testing::AssertionFailure() << st.error();
+  return ::testing::AssertionSuccess();
+}
+
+KioskStart staffStart() {
+  KioskStart start;
+  start.staff = true;
+  return start;
+}
+
 TEST(KioskApp, StaffExportsSessionsAndSaysWhyWhenItCannot) {
   const fs::path dir = test::scratchDir("kiosk-app-staff");
   double t = 0;
   MemoryDisplay display(kW, kH);
   KioskConfig config = testConfig(dir);
   // A session saved earlier.
-  fs::create_directories(config.sessionsDir);
-  {
-    Scene s;
-    s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
-    Model m(s.workpiece, Deformation::Sheet);
-    ASSERT_TRUE(saveScene(s, &m, config.sessionsDir / "session-20240101-120000.json"));
-  }
+  ASSERT_TRUE(saveOneSession(config));
   std::vector<std::string> log;
-  KioskStart start;
-  start.staff = true;
-  KioskApp app(config, tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; }, start);
+  KioskApp app(config, tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; }, staffStart());
   EXPECT_EQ(app.mode(), KioskMode::Staff);
   app.step();
   // The export folder is missing (no USB stick): a clear message, nothing else happens.
@@ -73,17 +81,9 @@ TEST(KioskApp, StaffMenuExportRunsOffTheMainLoopAndShowsItsOutcome) {
   MemoryDisplay display(kW, kH);
   KioskConfig config = testConfig(dir);
   config.exportAnyDir = true;  // the test's folder stands for a stick
-  fs::create_directories(config.sessionsDir);
-  {
-    Scene s;
-    s.workpiece = std::make_shared<Plate>(60.0, 40.0, 0.5);
-    Model m(s.workpiece, Deformation::Sheet);
-    ASSERT_TRUE(saveScene(s, &m, config.sessionsDir / "session-20240101-120000.json"));
-  }
+  ASSERT_TRUE(saveOneSession(config));
   std::vector<std::string> log;
-  KioskStart start;
-  start.staff = true;
-  KioskApp app(config, tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; }, start);
+  KioskApp app(config, tinyPieces(), display, [&](const std::string& l) { log.push_back(l); }, [&] { return t; }, staffStart());
   app.step();
   fs::create_directories(config.exportDir);
   app.staffActivate(1);
@@ -127,7 +127,7 @@ TEST(KioskApp, StaffMenuExportRunsOffTheMainLoopAndShowsItsOutcome) {
   EXPECT_NE(refused->find("\"ok\":false"), std::string::npos);
   EXPECT_TRUE(fs::exists(config.sessionsDir / "session-20240101-120000.json"));  // never moved
   // Back to the exhibit.
-  FakeButtons buttons;
+  QueuedButtons buttons;
   app.addButtons(&buttons);
   buttons.tap(Action::Turn, t);  // activates the selected entry: "back to the exhibit"
   app.step();
