@@ -15,7 +15,7 @@ if command -v ccache >/dev/null; then
 fi
 
 echo "== build (RelWithDebInfo)"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DEMBOSS_BOOT_TEST=ON "${launcher[@]}" >/dev/null
 cmake --build build -j "$jobs"
 
 echo "== tests"
