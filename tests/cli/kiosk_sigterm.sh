@@ -18,11 +18,14 @@ fail=0
 demo="$src/tests/app/data/visitor-demo.events"
 
 backends=(headless osmesa)
+xdisplay=""
 if command -v Xvfb >/dev/null; then
-  Xvfb :87 -screen 0 800x600x24 -nolisten tcp >/dev/null 2>&1 &
+  # -displayfd: Xvfb takes a free display number and writes it there once it is ready.
+  Xvfb -displayfd 3 -screen 0 800x600x24 -nolisten tcp 3>"$tmp/xdisplay" >/dev/null 2>&1 &
   xpid=$!
-  for _ in $(seq 50); do [ -e /tmp/.X11-unix/X87 ] && break; sleep 0.1; done
-  [ -e /tmp/.X11-unix/X87 ] && backends+=(x11) || echo "note: Xvfb did not start; x11 not tested"
+  for _ in $(seq 100); do [ -s "$tmp/xdisplay" ] && break; sleep 0.1; done
+  xdisplay=":$(head -1 "$tmp/xdisplay" 2>/dev/null)"
+  [ "$xdisplay" != ":" ] && backends+=(x11) || echo "note: Xvfb did not start; x11 not tested"
 else
   echo "note: no Xvfb; x11 not tested"
 fi
@@ -48,7 +51,7 @@ one() {
   if [ "$state" = exporting ]; then  # enough sessions that the export is still under way when the signal comes
     for n in $(seq -w 1 300); do cp "$src/firmware-app/pieces/1-rosette.json" "$dir/sessions/session-20240101-120$n.json"; done
   fi
-  DISPLAY=:87 "$kiosk" "${args[@]}" >"$dir/out" 2>"$dir/err" &
+  DISPLAY=$xdisplay "$kiosk" "${args[@]}" >"$dir/out" 2>"$dir/err" &
   local pid=$!
   case "$state" in
     starting) sleep 0.3 ;;
