@@ -1,5 +1,8 @@
 // The KMS display: DRM card and connector discovery, GBM surface, EGL on EGL_PLATFORM_GBM_KHR,
 // drmModeSetCrtc for the first frame and drmModePageFlip (waiting for its vblank event) after.
+// When the GL is software (llvmpipe: no GPU), the frame is drawn off screen instead and copied into
+// the card's dumb buffers under a fault guard (kms_scanout.h), so that a card removed mid-frame is
+// a lost output, not a crash.
 #include "display_kms.h"
 
 #include <fcntl.h>
@@ -10,6 +13,7 @@
 #include <xf86drmMode.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -18,7 +22,9 @@
 #include <utility>
 #include <vector>
 
+#include "display_headless.h"
 #include "gl_egl.h"
+#include "kms_scanout.h"
 
 namespace emboss {
 namespace {
@@ -198,6 +204,21 @@ void onPageFlip(int /*fd*/, unsigned /*frame*/, unsigned /*sec*/, unsigned /*use
   *static_cast<bool*>(data) = false;
 }
 
+// EMBOSS_KMS_SCANOUT=gbm|dumb|auto (default auto: dumb buffers when the GL is software).
+std::string scanoutChoice() {
+  const char* v = std::getenv("EMBOSS_KMS_SCANOUT");
+  const std::string s = v != nullptr ? v : "";
+  return s == "gbm" || s == "dumb" ? s : "auto";
+}
+
+// A buffer that is on screen or being flipped to: a GBM surface's (released back to it), or one of
+// the display's own dumb buffers (by index).
+struct ScanBuffer {
+  gbm_bo* bo = nullptr;
+  int dumb = -1;
+  bool empty() const { return bo == nullptr && dumb < 0; }
+};
+
 class KmsDisplay final : public Display {
  public:
   explicit KmsDisplay(Candidate c)
@@ -211,9 +232,11 @@ class KmsDisplay final : public Display {
                      &connectorId_, 1, &savedCrtc_->mode);
     }
     if (flipPending_) waitForFlip(kFlipWaitMs);  // a flip under way ends before its buffers go
-    if (!flipPending_ && flipped_ != nullptr) completeFlip();
-    if (flipped_ != nullptr) gbm_surface_release_buffer(surface_.get(), flipped_);  // the fd closes after
-    if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
+    if (!flipPending_ && !flipped_.empty()) completeFlip();
+    release(flipped_);  // the fd closes after
+    release(onScreen_);
+    dumb_.clear();      // framebuffers and maps, before the card's fd closes
+    soft_.reset();
     session_.reset();  // the EGL surface before the gbm surface under it
     surface_.reset();  // destroys the buffers, whose FbData removes their framebuffers
     gbm_.reset();
@@ -222,6 +245,14 @@ class KmsDisplay final : public Display {
   Status start(const GlPresenterSettings& settings) {
     const std::string where = cardName(info_.card) + " " + info_.connector;
     savedCrtc_.reset(drmModeGetCrtc(fd_.get(), crtcId_));
+    const std::string choice = scanoutChoice();
+    if (choice != "gbm") {
+      // Software GL off screen (EGL surfaceless): when that is all this machine has, GBM would give
+      // the same llvmpipe drawing straight into the card's memory, so the dumb buffers are taken.
+      auto soft = createHeadlessDisplay(mode_.hdisplay, mode_.vdisplay, settings);
+      if (soft && (choice == "dumb" || isSoftwareRenderer((*soft)->name()))) return startDumb(std::move(*soft), where);
+      if (!soft && choice == "dumb") return fail("kms: " + soft.error());
+    }
     gbm_.reset(gbm_create_device(fd_.get()));
     if (!gbm_) return fail("kms: gbm_create_device failed on " + cardName(info_.card) + " (" + info_.driver + ")");
     surface_.reset(gbm_surface_create(gbm_.get(), mode_.hdisplay, mode_.vdisplay, GBM_FORMAT_XRGB8888,
@@ -288,7 +319,7 @@ class KmsDisplay final : public Display {
     if (CrtcPtr crtc(drmModeGetCrtc(fd_.get(), crtcId_)); !crtc && errno == ENODEV) {
       return loseOutput(cardName(info_.card) + " " + info_.connector + " is gone (the card was removed)");
     }
-    if (!session_->makeCurrent()) return loseOutput("cannot make the GLES context current");
+    if (!soft_ && !session_->makeCurrent()) return loseOutput("cannot make the GLES context current");
     const auto now = std::chrono::steady_clock::now();
     if (now - lastConnectorCheck_ >= kConnectorCheckInterval) {
       lastConnectorCheck_ = now;
@@ -297,14 +328,27 @@ class KmsDisplay final : public Display {
         return loseOutput(info_.connector + " was disconnected");
       }
     }
-    if (!presenter_->draw(frame, dirty, overlay)) return false;
     std::string error;
+    if (soft_) {
+      if (!soft_->present(frame, dirty, overlay)) return false;
+      const std::string where = cardName(info_.card) + " " + info_.connector;
+      if (flipPending_ && !finishFlip(&error, where)) return loseOutput(error);
+      const int next = onScreen_.dumb == 0 ? 1 : 0;
+      if (!dumb_[next].write(soft_->screenshot())) {
+        return loseOutput(where + " went away while a frame was being written into it (the card was removed)");
+      }
+      if (!scanout(dumb_[next].framebuffer(), ScanBuffer{nullptr, next}, &error)) return loseOutput(error);
+      return true;
+    }
+    if (!presenter_->draw(frame, dirty, overlay)) return false;
     if (!showFrame(&error)) return loseOutput(error);
     return true;
   }
 
   Image screenshot() override {
-    if (lost_ || !session_->makeCurrent()) return Image();
+    if (lost_) return Image();
+    if (soft_) return soft_->screenshot();
+    if (!session_->makeCurrent()) return Image();
     return presenter_->screenshot();
   }
 
@@ -340,21 +384,28 @@ class KmsDisplay final : public Display {
       *error = "kms: eglSwapBuffers failed on " + where + " (" + eglErrorName(eglGetError()) + ")";
       return false;
     }
-    gbm_bo* next = gbm_surface_lock_front_buffer(surface_.get());
-    if (next == nullptr) {
+    gbm_bo* bo = gbm_surface_lock_front_buffer(surface_.get());
+    if (bo == nullptr) {
       *error = "kms: no front buffer from GBM on " + where;
       return false;
     }
-    const std::uint32_t fb = framebufferFor(next);
+    const std::uint32_t fb = framebufferFor(bo);
     if (fb == 0) {
-      gbm_surface_release_buffer(surface_.get(), next);
+      gbm_surface_release_buffer(surface_.get(), bo);
       *error = "kms: cannot make a framebuffer for scanout on " + where + ": " + std::strerror(errno);
       return false;
     }
+    return scanout(fb, ScanBuffer{bo, -1}, error);
+  }
+
+  // Puts framebuffer `fb` (of buffer `next`) on screen: drmModeSetCrtc the first time, afterwards a
+  // page flip whose completion (the next vblank) it waits for.
+  bool scanout(std::uint32_t fb, ScanBuffer next, std::string* error) {
+    const std::string where = cardName(info_.card) + " " + info_.connector;
     if (!modeSet_) {
       if (drmModeSetCrtc(fd_.get(), crtcId_, fb, 0, 0, &connectorId_, 1, &mode_) != 0) {
         const int e = errno;
-        gbm_surface_release_buffer(surface_.get(), next);
+        release(next);
         *error = "kms: cannot set " + sizeText() + " on " + where + ": " + std::strerror(e);
         if (e == EACCES || e == EPERM || e == EBUSY) {
           *error += " (another program -- X, Wayland, a second kiosk -- owns the screen; stop it, or use x11)";
@@ -365,14 +416,14 @@ class KmsDisplay final : public Display {
     } else {
       // The previous flip first: a second one while it is pending would be refused (EBUSY).
       if (flipPending_ && !finishFlip(error, where)) {
-        gbm_surface_release_buffer(surface_.get(), next);
+        release(next);
         return false;
       }
       // The event's data is a member, not a local: a flip that completes after a wait ran out is
       // handled by a later wait, and must find live memory.
       if (drmModePageFlip(fd_.get(), crtcId_, fb, DRM_MODE_PAGE_FLIP_EVENT, &flipPending_) != 0) {
         const int e = errno;
-        gbm_surface_release_buffer(surface_.get(), next);
+        release(next);
         *error = "kms: page flip refused on " + where + ": " + std::strerror(e);
         return false;
       }
@@ -386,9 +437,35 @@ class KmsDisplay final : public Display {
       completeFlip();
       return true;
     }
-    if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
+    release(onScreen_);
     onScreen_ = next;
     return true;
+  }
+
+  void release(ScanBuffer& b) {
+    if (b.bo != nullptr) gbm_surface_release_buffer(surface_.get(), b.bo);
+    b = ScanBuffer{};
+  }
+  void release(ScanBuffer&& b) { release(b); }
+
+  // The dumb-buffer path (kms_scanout.h): `soft` draws, two dumb buffers take turns on screen.
+  Status startDumb(std::unique_ptr<Display> soft, const std::string& where) {
+    for (int i = 0; i < 2; ++i) {
+      auto b = DumbBuffer::create(fd_.get(), mode_.hdisplay, mode_.vdisplay, where);
+      if (!b) return fail(b.error());
+      dumb_.push_back(std::move(*b));
+    }
+    soft_ = std::move(soft);
+    std::string renderer = soft_->name();  // "headless (EGL surfaceless, llvmpipe (...))"
+    if (const auto comma = renderer.find(", "); comma != std::string::npos) renderer = renderer.substr(comma + 2);
+    if (!renderer.empty() && renderer.back() == ')') renderer.pop_back();
+    name_ = "kms (" + where + " " + sizeText() + "@" + std::to_string(info_.refreshHz) + ", " + renderer +
+            ", dumb buffers)";
+    // The mode now, with a black picture: a busy or refused output fails here, with a message.
+    std::string error;
+    if (!scanout(dumb_[0].framebuffer(), ScanBuffer{nullptr, 0}, &error)) return fail(error);
+    lastConnectorCheck_ = std::chrono::steady_clock::now();
+    return Ok{};
   }
 
   // Waits up to ms for the pending flip's event; false when the device reports an error or hang-up.
@@ -409,9 +486,9 @@ class KmsDisplay final : public Display {
 
   // The flip under way becomes the buffer on screen.
   void completeFlip() {
-    if (onScreen_ != nullptr) gbm_surface_release_buffer(surface_.get(), onScreen_);
+    release(onScreen_);
     onScreen_ = flipped_;
-    flipped_ = nullptr;
+    flipped_ = ScanBuffer{};
   }
 
   // Waits for the flip still pending from the last frame: done, or the output is gone.
@@ -442,8 +519,10 @@ class KmsDisplay final : public Display {
   GbmSurfacePtr surface_;
   std::unique_ptr<EglSession> session_;
   std::unique_ptr<GlPresenter> presenter_;
-  gbm_bo* onScreen_ = nullptr;  // locked front buffer being scanned out
-  gbm_bo* flipped_ = nullptr;   // locked buffer of the flip under way
+  std::unique_ptr<Display> soft_;  // the dumb-buffer path's off-screen drawing (else null)
+  std::vector<DumbBuffer> dumb_;   // its two scanout buffers
+  ScanBuffer onScreen_;            // the buffer being scanned out (a GBM one is locked)
+  ScanBuffer flipped_;             // the buffer of the flip under way
   bool flipPending_ = false;    // the page flip event's data: cleared by onPageFlip
   std::chrono::steady_clock::time_point flipStart_;
   bool modeSet_ = false;

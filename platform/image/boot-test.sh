@@ -237,13 +237,25 @@ first_frame_wait() {  # first_frame_wait SECONDS: waits for this invocation's fi
       sleep 0.5; done; exit 1"
 }
 
+# A failed run's consoles, journals and screendumps are kept outside the checkout (the newest 10),
+# so that a failure in a run nobody watched (CI, a clone since removed) can be read afterwards.
+kept=""
+keep_failure() {
+  kept="$cache/failures/$(date +%Y%m%d-%H%M%S)-$$"
+  mkdir -p "$kept" && cp "$job"/*.log "$job"/*.ppm "$kept"/ 2>/dev/null
+  printf '%s\n' "${results[@]}" > "$kept/results.txt"
+  ls -1d "$cache"/failures/*/ 2>/dev/null | sort | head -n -10 | xargs -r rm -rf
+}
+
 t_all=$SECONDS
 say "booting $(basename "$image") (software emulation; a few minutes)"
 boot
 if ! wait_agent 300; then
   check "boot: the test agent answers" 1 "no answer within 300 s (console: $(tail -c 300 "$job/console-1.log" | tr '\n' ' '))"
   [ "${EMBOSS_BOOT_TEST_VERBOSE:-0}" = 1 ] && cat "$job/console-1.log" >&2
+  keep_failure
   printf '%s\n' "${results[@]}"
+  echo "the logs are kept in $kept"
   exit 1
 fi
 check "boot: systemd is PID 1" "$([ "$(agent 20 'readlink /proc/1/exe')" = /usr/lib/systemd/systemd ] && echo 0 || echo 1)" \
@@ -380,7 +392,10 @@ else
   timeout 120 tail --pid="$qpid" -f /dev/null
 fi
 
+[ $fails -gt 0 ] && keep_failure
+
 echo
+[ $fails -gt 0 ] && { echo "FAILED ($fails; the logs are kept in $kept):"; printf '%s\n' "${results[@]}" | grep '^FAIL'; }
 echo "emboss appliance boot test: $(basename "$image") ($(du -h --apparent-size "$image" | cut -f1) image, $(du -h "$image" | cut -f1) used), $((SECONDS - t_all)) s"
 echo "boot to first frame: ${ff_boot1:-?} s from the kernel's start to the kiosk's 'first frame on the screen' (first boot; ${kff:-?} s after the SIGKILL restart); $an"
 printf '%s\n' "${results[@]}"

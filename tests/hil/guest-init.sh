@@ -81,14 +81,37 @@ hil_udevd_start() {
   [ -e $R/run/udev/control ]
 }
 
+# A program of a test that crashes leaves a core in the chroot's /tmp, named by its pid and its
+# executable's path ('/' as '!'); hil_test prints gdb's backtraces of it, so that a crash seen once
+# (in CI, say) is not lost.
+echo '/tmp/hil-core.%p.%E' > /proc/sys/kernel/core_pattern 2>/dev/null
+ulimit -c unlimited 2>/dev/null
+hil_backtraces() {
+  local core exe
+  for core in $R/tmp/hil-core.*; do
+    [ -f "$core" ] || continue
+    exe=$(basename "$core" | cut -d. -f3- | tr '!' '/')
+    echo "hil: $exe crashed; gdb's backtraces of its core:"
+    if [ -x $R/usr/bin/gdb ]; then
+      hil_chroot gdb -q -batch -ex 'thread apply all bt 25' "$exe" "/tmp/$(basename "$core")" 2>&1 |
+        grep -v '^\[New LWP\|^warning: ' | head -200
+    else
+      echo "hil: (no gdb on the host: apt-get install gdb)"
+    fi
+    rm -f "$core"
+  done
+}
+
 # hil_test NAME TIMEOUT CMD...: runs CMD in the chroot with a time limit, between marker lines.
 hil_test() {
   local name=$1 limit=$2 t0 t1 rc
   shift 2
   echo "EMBOSS-HIL-BEGIN $name"
+  rm -f $R/tmp/hil-core.*
   t0=$(cut -d' ' -f1 /proc/uptime)
   timeout -s KILL "$limit" /bin/hil-chroot "$@" 2>&1
   rc=$?
+  hil_backtraces
   t1=$(cut -d' ' -f1 /proc/uptime)
   echo "EMBOSS-HIL-END $name rc=$rc secs=$(echo "$t0 $t1" | awk '{printf "%.1f", $2 - $1}')"
   return $rc

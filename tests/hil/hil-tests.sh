@@ -1,8 +1,9 @@
 #!/bin/bash
 # hil-tests.sh BUILD_DIR SOURCE_DIR [TEST...]: the hardware-in-the-loop tests, all in one boot of the
 # HIL virtual machine (Debian's kernel under qemu; see run-vm.sh and docs/hil.md), one after another.
-# Builds the test programs first (build.sh). Prints one line per test and, last, 'N passed, N failed'
-# (', N skipped' when some could not run). Exit 0 when all ran passed, 1 when one failed, 77 when
+# Builds the test programs first (build.sh). Prints one line per test, then the output of each test
+# that failed, and last 'N passed, N failed' (', N skipped' when some could not run); every test's
+# whole output is kept in BUILD_DIR/hil/last-run.log (EMBOSS_HIL_REPORT=FILE: there instead). Exit 0 when all ran passed, 1 when one failed, 77 when
 # this machine cannot run the VM at all (no qemu and no way to install it, no kernel package).
 #
 # Tests (default: all): evdev-uinput emboss-input hidraw-uhid gpio-cp2112 camera-vivid usb-gadget kiosk kiosk-buttons kms
@@ -104,7 +105,7 @@ fi
   if want kms; then
     if [ -x "$kiosk" ]; then
       echo "hil_modprobe bochs"
-      printf 'hil_test kms 240 /bin/sh %q %q\n' "$HIL_DIR/kms.sh" "$kiosk"
+      printf 'hil_test kms 420 /bin/sh %q %q\n' "$HIL_DIR/kms.sh" "$kiosk"
     else
       skipped[kms]="emboss-kiosk is not built in $build"
     fi
@@ -118,20 +119,27 @@ vm_rc=$?
 rm -f "$guest"
 [ -n "${EMBOSS_HIL_LOG:-}" ] && cp "$console" "$EMBOSS_HIL_LOG"
 
-# Each test's output, then the summary.
+# The summary first, then the output of each test that failed (a failure is what a reader of a CI log
+# needs, at its top); every test's whole output goes to $report (EMBOSS_HIL_VERBOSE=1: printed too).
+report=${EMBOSS_HIL_REPORT:-$build/hil/last-run.log}
+mkdir -p "$(dirname "$report")"
+: > "$report"
 passed=0 failed=0 nskipped=0
 summary=()
+failed_tests=()
 for t in "${wanted[@]}"; do
   if [ -n "${skipped[$t]:-}" ]; then
     nskipped=$((nskipped + 1))
     summary+=("SKIP $t: ${skipped[$t]}")
     continue
   fi
-  echo "=== $t"
-  awk -v t="$t" '$0 == "EMBOSS-HIL-BEGIN " t {on = 1; next} on && index($0, "EMBOSS-HIL-END " t " ") == 1 {exit} on {print}' "$console"
+  {
+    echo "##### hil test $t"
+    awk -v t="$t" '$0 == "EMBOSS-HIL-BEGIN " t {on = 1; next} on && index($0, "EMBOSS-HIL-END " t " ") == 1 {exit} on {print}' "$console"
+  } >> "$report"
   end=$(grep -a "^EMBOSS-HIL-END $t " "$console" | tail -1)
   if [ -z "$end" ]; then
-    failed=$((failed + 1))
+    failed=$((failed + 1)); failed_tests+=("$t")
     if grep -qa "^EMBOSS-HIL-BEGIN $t\$" "$console"; then
       summary+=("FAIL $t: did not finish (the VM stopped or timed out)")
     else
@@ -144,21 +152,38 @@ for t in "${wanted[@]}"; do
   if [ "$rc" = 0 ]; then
     passed=$((passed + 1)); summary+=("PASS $t (${secs} s)")
   else
-    failed=$((failed + 1))
+    failed=$((failed + 1)); failed_tests+=("$t")
     detail=""
     [ "$rc" = 137 ] && detail=", killed by its time limit"
+    [ "$rc" = 139 ] && detail=", segmentation fault"
+    [ "$rc" = 134 ] && detail=", aborted"
     summary+=("FAIL $t (exit $rc$detail, ${secs} s)")
   fi
 done
+fatal=$(grep -a '^EMBOSS-HIL-FATAL' "$console")
+echo "=== summary (every test's output: $report)"
+printf '%s\n' "${summary[@]}"
+[ -n "$fatal" ] && echo "$fatal"
+echo "times: prepare $((t_prepared - t_start)) s, build $((t_built - t_prepared)) s, VM $HIL_BOOT_SECONDS s"
+for t in "${failed_tests[@]}"; do
+  echo "=== $t (failed): its output"
+  awk -v t="##### hil test $t" '$0 == t {on = 1; next} on && /^##### hil test / {exit} on {print}' "$report"
+done
+if [ -n "${EMBOSS_HIL_VERBOSE:-}" ]; then
+  cat "$report"
+fi
 if [ $vm_rc -ne 0 ]; then
   echo "=== the VM's console (it ended without finishing its job, status $vm_rc)"
   grep -av '^EMBOSS-HIL' "$console" | tail -40
 fi
-grep -a '^EMBOSS-HIL-FATAL' "$console"
+# A failed run's report and console are also kept outside the checkout (the newest 10), so that a
+# failure in a run nobody watched (CI, a clone since removed) can be read afterwards.
+if [ $failed -gt 0 ]; then
+  kept="$HIL_CACHE/failures/$(date +%Y%m%d-%H%M%S)-$$"
+  mkdir -p "$kept" && cp "$report" "$kept/report.log" && cp "$console" "$kept/console.log" && echo "hil: kept in $kept"
+  ls -1d "$HIL_CACHE"/failures/*/ 2>/dev/null | sort | head -n -10 | xargs -r rm -rf
+fi
 rm -f "$console"
-echo "=== summary"
-printf '%s\n' "${summary[@]}"
-echo "times: prepare $((t_prepared - t_start)) s, build $((t_built - t_prepared)) s, VM $HIL_BOOT_SECONDS s"
 if [ $nskipped -gt 0 ]; then
   echo "$passed passed, $failed failed, $nskipped skipped"
 else
