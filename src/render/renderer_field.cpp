@@ -1,0 +1,465 @@
+// The field tracer: rays through the sheet model, the displacement field with its pyramid bounding
+// the steps (renderer.h).
+#include "render/renderer_internal.h"
+
+namespace emboss {
+
+using namespace render_internal;
+
+// ---------------------------------------------------------------- the field tracer
+
+template <class T>
+T Renderer::exactDisplacement(const P3<T>& p, std::span<const std::uint32_t> candidates, RenderStats& st) const {
+  const auto& ops = model_->operations();
+  T total(0.0);
+  for (std::uint32_t i : candidates) {
+    const PreparedOp& op = ops[i];
+    if (!op.op().isOffset()) continue;
+    total += op.offset(p, Deformation::Sheet);
+    ++st.opsVisited;
+  }
+  return total;
+}
+
+double Renderer::displacementAt(double x, double y) const {
+  if (fieldReady_ && field_.contains(x, y)) return field_.value(x, y);
+  RenderStats st;
+  std::vector<std::uint32_t> scratch;
+  return exactDisplacement(P3<double>{x, y, 0.0}, grid_.at(x, y, scratch), st);
+}
+
+// f at p, a function of p alone: the field's D inside its domain, the exact sum outside it; the
+// set operations whose support holds (x, y), each at the point moved by the offsets after it.
+// For an outline sheet W is the slab d - |z'| (bit for bit) where the slab is below the column's
+// bound of O and, in outside columns away from set operations, where only its sign can matter,
+// an upper bound of it (< 0).
+// *lipschitzValue gets the value the Lipschitz bounds work from: f itself, or the slab.
+double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderStats& st,
+                            std::vector<std::uint32_t>& scratch, double* lipschitzValue) const {
+  ++st.evaluations;
+  double d;
+  if (field_.contains(p.x, p.y)) {
+    d = field_.value(p.x, p.y);
+    ++st.fieldEvaluations;
+  } else {
+    d = exactDisplacement(P3<double>{p.x, p.y, p.z}, grid_.at(p.x, p.y, scratch), st);
+  }
+  const int n = rc.allSetOps ? static_cast<int>(setOps_.size()) : rc.setOpCount;
+  double v;
+  if (workpieceKind_ == 4) {
+    const double slab = columns_.halfThickness - std::abs(p.z - d);
+    if (lipschitzValue) *lipschitzValue = slab;
+    const ColumnMap::Column col = columns_.at(p.x, p.y);
+    bool underSet = false;
+    for (int k = 0; k < n && !underSet; ++k)
+      underSet = (rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k]).support.contains(p.x, p.y);
+    if (slab <= col.lo)
+      v = slab;
+    else if (col.hi < 0.0f && !underSet)
+      v = col.hi;
+    else
+      v = model_->workpiece().value(P3<double>{p.x, p.y, p.z - d});
+  } else {
+    v = model_->workpiece().value(P3<double>{p.x, p.y, p.z - d});
+    if (lipschitzValue) *lipschitzValue = v;
+  }
+  for (int k = 0; k < n; ++k) {
+    const SetOp& s = rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k];
+    if (!s.support.contains(p.x, p.y)) continue;  // combine() is exactly the identity there
+    const double shift = s.shift->value(p.x, p.y);
+    v = model_->operations()[s.index].combine(v, P3<double>{p.x, p.y, p.z - shift});
+    ++st.opsVisited;
+  }
+  return v;
+}
+
+// The function the Lipschitz bounds hold for, with D from the field: W(x, y, z - D), or for an
+// outline sheet the slab d - |z - D| (which bounds W from above).
+double Renderer::sheetValue(const glm::dvec3& p) const {
+  const double zp = p.z - field_.value(p.x, p.y);
+  if (workpieceKind_ == 4) return columns_.halfThickness - std::abs(zp);
+  return model_->workpiece().value(P3<double>{p.x, p.y, zp});
+}
+
+// Whether f < 0 is proven over the segment a-b. f without the set operations is bounded from its
+// value at the middle and the ray's Lipschitz constant when there is one, else by intervals over
+// the segment's box (the field's pyramid for D); the set operations then by intervals.
+bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const glm::dvec3& b, RenderStats& st,
+                             std::vector<std::uint32_t>& scratch) const {
+  ++st.evaluations;
+  const P3<Interval> box = boxOf(a, b);
+  const Box2 xy{box.x.lo, box.y.lo, box.x.hi, box.y.hi};
+  Interval v;
+  // Outline sheets: the columns under the box decide which bound applies.
+  bool columnsOk = true;
+  double outsideUpper = -std::numeric_limits<double>::infinity();
+  bool anyInside = false, anyOutside = false;
+  if (workpieceKind_ == 4) {
+    const ColumnMap& c = columns_;
+    const int i0 = static_cast<int>(std::floor((xy.x0 - c.x0) * c.inv)), i1 = static_cast<int>(std::floor((xy.x1 - c.x0) * c.inv));
+    const int j0 = static_cast<int>(std::floor((xy.y0 - c.y0) * c.inv)), j1 = static_cast<int>(std::floor((xy.y1 - c.y0) * c.inv));
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) > 16) {
+      columnsOk = false;
+    } else {
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+          const ColumnMap::Column b = c.block(i, j);
+          if (b.hi < 0.0f)
+            anyOutside = true, outsideUpper = std::max(outsideUpper, static_cast<double>(b.hi));
+          else
+            anyInside = true;
+        }
+    }
+  }
+  const int nSet = rc.allSetOps ? static_cast<int>(setOps_.size()) : rc.setOpCount;
+  bool setOpHere = false;
+  for (int k = 0; k < nSet && !setOpHere; ++k) {
+    const SetOp& s = rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k];
+    setOpHere = s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi;
+  }
+  if (workpieceKind_ == 4 && columnsOk && !anyInside && !setOpHere) return true;  // all outside
+  if (workpieceKind_ == 4 && anyOutside && setOpHere) columnsOk = false;
+  bool slabBound = rc.lipschitz && field_.containsBox(xy);
+  if (workpieceKind_ == 4 && columnsOk && slabBound) {
+    // f <= max(slab, the outside columns' bounds): enough when that is negative.
+    const double fm = sheetValue(0.5 * (a + b));
+    const double len = glm::length(b - a);
+    const double r = 0.5 * lipschitzAlong((b - a) / len, field_.bound(xy), workpieceKind_) * len + kPruneEps;
+    if (std::max(fm + r, outsideUpper) >= -kPruneEps || setOpHere) slabBound = false, columnsOk = false;
+  }
+  if (workpieceKind_ == 4 && !columnsOk) {
+    Interval d;
+    if (field_.containsBox(xy)) {
+      const HeightField::Bound r = field_.bound(xy);
+      d = Interval(r.lo, r.hi);
+      ++st.fieldEvaluations;
+    } else {
+      d = exactDisplacement(box, grid_.in(xy, scratch), st);
+    }
+    v = model_->workpiece().value(P3<Interval>{box.x, box.y, box.z - d});
+  } else if (slabBound) {
+    const double fm = sheetValue(0.5 * (a + b));
+    const double len = glm::length(b - a);
+    const double r = 0.5 * lipschitzAlong((b - a) / len, field_.bound(xy), workpieceKind_) * len + kPruneEps;
+    v = Interval(fm - r, fm + r);
+    if (anyOutside) v = Interval(std::min(v.lo, outsideUpper), std::max(v.hi, outsideUpper));
+    ++st.fieldEvaluations;
+  } else {
+    Interval d;
+    if (field_.containsBox(xy)) {
+      const HeightField::Bound r = field_.bound(xy);
+      d = Interval(r.lo, r.hi);
+      ++st.fieldEvaluations;
+    } else {
+      d = exactDisplacement(box, grid_.in(xy, scratch), st);
+    }
+    v = model_->workpiece().value(P3<Interval>{box.x, box.y, box.z - d});
+  }
+  for (int k = 0; k < nSet; ++k) {
+    const SetOp& s = rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k];
+    if (!s.support.overlaps(xy) || box.z.hi < s.zlo || box.z.lo > s.zhi) continue;
+    const Box2 in{std::max(xy.x0, s.support.x0), std::max(xy.y0, s.support.y0), std::min(xy.x1, s.support.x1),
+                  std::min(xy.y1, s.support.y1)};
+    const HeightField::Bound sb = s.shift->bound(in);
+    const Interval shift(sb.lo, sb.hi);
+    v = combineBound(model_->operations()[s.index], v, P3<Interval>{box.x, box.y, box.z - shift});
+    ++st.opsVisited;
+  }
+  return v.hi < -kPruneEps;
+}
+
+glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch) const {
+  ++st.evaluations;
+  const P3<Grad> q{Grad(p.x, 1, 0, 0), Grad(p.y, 0, 1, 0), Grad(p.z, 0, 0, 1)};
+  Grad d;
+  if (field_.contains(p.x, p.y)) {
+    double v, gx, gy;
+    field_.valueAndGradient(p.x, p.y, v, gx, gy);
+    d = Grad(v, gx, gy, 0.0);
+    ++st.fieldEvaluations;
+  } else {
+    d = exactDisplacement(q, grid_.at(p.x, p.y, scratch), st);
+  }
+  Grad f;
+  if (workpieceKind_ == 4 && columns_.halfThickness - std::abs(p.z - d.v) <= columns_.at(p.x, p.y).lo)
+    f = Grad(columns_.halfThickness) - abs(q.z - d);  // W there
+  else
+    f = model_->workpiece().value(P3<Grad>{q.x, q.y, q.z - d});
+  for (const SetOp& s : setOps_) {
+    if (!s.support.contains(p.x, p.y)) continue;
+    double sv, sx, sy;
+    s.shift->valueAndGradient(p.x, p.y, sv, sx, sy);
+    const Grad shift(sv, sx, sy, 0.0);
+    f = model_->operations()[s.index].combine(f, P3<Grad>{q.x, q.y, q.z - shift});
+    ++st.opsVisited;
+  }
+  glm::dvec3 n(-f.dx, -f.dy, -f.dz);
+  const double len = glm::length(n);
+  return len > 0 ? n / len : glm::dvec3(0, 0, 1);
+}
+
+std::optional<Renderer::Hit> Renderer::traceField(int px, int py, RenderStats& st,
+                                                  std::vector<std::uint32_t>& scratch) const {
+  const Ray ray = camera_->ray(px, py);
+  ++st.rays;
+  double t0, t1;
+  if (!clipRay(ray, fieldClip_, t0, t1)) return std::nullopt;
+  const double h = step_, h8 = h / kSubdivisions;
+  // Points of the ray are t = q h / 64 for integers q: the same points whatever the clip.
+  const long q0 = kSubdivisions * static_cast<long>(std::floor(t0 / h));
+  const long q1 = kSubdivisions * static_cast<long>(std::ceil(t1 / h));
+  auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };
+
+  RayContext rc;
+  const glm::dvec3 pa = at(q0), pb = at(q1);
+  const Box2 reach{std::min(pa.x, pb.x), std::min(pa.y, pb.y), std::max(pa.x, pb.x), std::max(pa.y, pb.y)};
+  for (const SetOp& s : setOps_) {
+    if (!s.support.overlaps(reach)) continue;
+    if (rc.setOpCount == RayContext::kMaxSetOps) {
+      rc.allSetOps = true;
+      break;
+    }
+    rc.setOps[rc.setOpCount++] = &s;
+  }
+  const Box2 dom = field_.domain();
+  double tda = 0, tdb = 0;
+  const bool reachInDomain = field_.containsBox(reach);
+  if (reachInDomain) tda = static_cast<double>(q0) * h8 - 1.0, tdb = static_cast<double>(q1) * h8 + 1.0;
+  if (workpieceKind_ != 0 && (reachInDomain || clipRay(ray, Box3{dom.x0, dom.y0, -1e30, dom.x1, dom.y1, 1e30}, tda, tdb))) {
+    // W(x, y, z - D) with a known Lipschitz bound for W (see lipschitzAlong()), D's slopes from
+    // the field. Beyond the field's domain (the workpiece's bounds and a margin) W < 0: skipped.
+    rc.lipschitz = true;
+    const Box2 r{std::max(reach.x0, dom.x0), std::max(reach.y0, dom.y0), std::min(reach.x1, dom.x1), std::min(reach.y1, dom.y1)};
+    rc.lf = lipschitzAlong(ray.dir, field_.bound(r), workpieceKind_);
+    const long qa = static_cast<long>(std::ceil(tda / h8)) - 2, qb = static_cast<long>(std::floor(tdb / h8)) + 2;
+    if (qa >= q0) rc.skipLo[rc.skips] = q0, rc.skipHi[rc.skips] = qa, ++rc.skips;
+    if (qb <= q1) rc.skipLo[rc.skips] = qb, rc.skipHi[rc.skips] = q1, ++rc.skips;
+    // The windows where a set operation can act: the ray inside its box.
+    if (rc.allSetOps) {
+      rc.winLo[0] = q0, rc.winHi[0] = q1, rc.windows = 1;
+    } else {
+      for (int k = 0; k < rc.setOpCount; ++k) {
+        const SetOp& s = *rc.setOps[k];
+        double ta, tb;
+        if (!clipRay(ray, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}, ta, tb)) continue;
+        rc.addWindow(static_cast<long>(std::floor(ta / h8)) - 1, static_cast<long>(std::ceil(tb / h8)) + 1, q1);
+      }
+    }
+    if (workpieceKind_ == 4) {
+      // Outline sheets: follow the ray over the column blocks (a 2D DDA); stretches over outside
+      // columns are skipped.
+      const ColumnMap& c = columns_;
+      const double tStart = static_cast<double>(q0) * h8, tEnd = static_cast<double>(q1) * h8;
+      const glm::dvec3 p0 = ray.origin + tStart * ray.dir;
+      int i = static_cast<int>(std::floor((p0.x - c.x0) * c.inv)), j = static_cast<int>(std::floor((p0.y - c.y0) * c.inv));
+      const int si = ray.dir.x > 0 ? 1 : -1, sj = ray.dir.y > 0 ? 1 : -1;
+      const double inf = std::numeric_limits<double>::infinity();
+      auto crossing = [&](int k, int sk, double o, double d, double base) {
+        if (std::abs(d) < 1e-15) return inf;
+        return (base + (k + (sk > 0 ? 1 : 0)) * c.size - o) / d;
+      };
+      double tx = crossing(i, si, ray.origin.x, ray.dir.x, c.x0), ty = crossing(j, sj, ray.origin.y, ray.dir.y, c.y0);
+      const double dtx = std::abs(ray.dir.x) < 1e-15 ? inf : c.size / std::abs(ray.dir.x);
+      const double dty = std::abs(ray.dir.y) < 1e-15 ? inf : c.size / std::abs(ray.dir.y);
+      double t = tStart, runStart = tStart;
+      int runClass = -1;
+      auto endRun = [&](double tb) {
+        // Boundary columns need no window: W <= the slab there, whose Lipschitz bound holds.
+        if (runClass == 0 && rc.skips < RayContext::kMaxWindows) {
+          const long lo = static_cast<long>(std::ceil(runStart / h8)) + 1, hi = static_cast<long>(std::floor(tb / h8)) - 1;
+          if (lo <= hi) rc.skipLo[rc.skips] = lo, rc.skipHi[rc.skips] = hi, ++rc.skips;
+        }
+      };
+      for (int guard = 0; t < tEnd; ++guard) {
+        const int k = c.block(i, j).hi < 0.0f ? 0 : 1;  // 0: outside
+        if (k != runClass) {
+          endRun(t);
+          runClass = k, runStart = t;
+        }
+        if (guard > 4096) break;  // a very long path: the rest is not skipped
+        if (tx < ty)
+          t = tx, tx += dtx, i += si;
+        else
+          t = ty, ty += dty, j += sj;
+      }
+      endRun(std::min(t, tEnd));
+    }
+  } else {
+    rc.winLo[0] = q0, rc.winHi[0] = q1, rc.windows = 1;
+  }
+
+  // f at grid point q, and the value its Lipschitz bound holds for.
+  struct Val {
+    double f, l;
+  };
+  auto value = [&](long q) {
+    Val v;
+    v.f = fieldValue(rc, at(q), st, scratch, &v.l);
+    return v;
+  };
+  // Whether f < 0 is proven over [qa, qb] (never decides a hit, only skips work).
+  auto empty = [&](long qa, const Val& a, long qb, const Val& b) {
+    const bool window = rc.inWindow(qa, qb);
+    if (!window && rc.inSkip(qa, qb)) return true;
+    if (!window && field_.contains(at(qa).x, at(qa).y) && field_.contains(at(qb).x, at(qb).y)) {
+      if (0.5 * (a.l + b.l + rc.lf * static_cast<double>(qb - qa) * h8) < -kPruneEps) return true;
+      // Outline sheets inside the slab, over boundary columns: the columns, then intervals.
+      if (workpieceKind_ != 4) return false;
+    }
+    return fieldExcluded(rc, at(qa), at(qb), st, scratch);
+  };
+  const Val unknown{-1.0, -1.0};
+  // The first q in (qa, qb] with f(q) >= 0, given f(qa) < 0: sets the bracket [q - 1, q].
+  long bq = 0;
+  double bfa = 0, bfb = 0;
+  auto search = [&](auto& self, long qa, const Val& a, long qb, const Val& b, bool checked) -> bool {
+    ++st.steps;
+    if (b.f < 0.0 && !checked && empty(qa, a, qb, b)) return false;
+    if (qb - qa == 1) {
+      if (b.f < 0.0) return false;
+      bq = qb, bfa = a.f, bfb = b.f;
+      return true;
+    }
+    const long qm = qa + (qb - qa) / 2;
+    const Val m = value(qm);
+    if (self(self, qa, a, qm, m, false)) return true;
+    return self(self, qm, m, qb, b, false);
+  };
+
+  std::optional<double> tHit;
+  bool bracketed = false;
+  constexpr long kCell = kSubdivisions;
+  constexpr long kSpan = 8 * kSubdivisions;  // interval spans of 8 cells
+  long q = q0;
+  bool known = false;  // fa = f(q)
+  Val fa{0, 0};
+  long prevQ = q0 - 2;  // the last point evaluated before q, and its value
+  double prevF = -1.0;
+  int shortSteps = 0;
+  long failedUntil[2] = {q0 - 1, q0 - 1};
+  while (q < q1) {
+    ++st.steps;
+    bool cellChecked = false;  // the interval test of [q, q + kCell] ran (and failed)
+    if (!rc.inWindow(q, q)) {
+      if (const long e = rc.skipEnd(q); e >= q) {
+        q = e + 1;
+        known = false;
+        prevQ = q0 - 2;
+        continue;
+      }
+      // Outside the windows f = W(x, y, z - D): a Lipschitz walk along the grid. From q, every
+      // point closer than -f(q) / lf is proven outside; the walk goes to the first one that is
+      // not (never into a window unseen). The first point found with f >= 0 is the canonical one.
+      if (!known) fa = value(q), known = true;
+      if (fa.f >= 0.0) {
+        if (q == q0) {  // the camera is inside the piece
+          tHit = static_cast<double>(q) * h8;
+          break;
+        }
+        bfa = prevQ == q - 1 ? prevF : value(q - 1).f;
+        bq = q, bfb = fa.f, bracketed = true;
+        break;
+      }
+      // The slopes of D where the walk can go (at most -f(q) / |dir| = -f(q) from q).
+      long n = 0;
+      const glm::dvec3 pq = at(q);
+      if (!field_.contains(pq.x, pq.y)) {
+        // At the edge of the field's domain: no Lipschitz bound; one point at a time.
+      } else if (fa.l >= 0.0 && workpieceKind_ == 4) {
+        // Within the slab of an outline sheet but outside the outline: no Lipschitz step; the
+        // cell is searched with the columns' and the workpiece's bounds.
+        if (fieldExcluded(rc, at(q), at(q + kCell), st, scratch)) {
+          q += kCell;
+          known = false;
+          prevQ = q0 - 2;
+          continue;
+        }
+        shortSteps = 5;
+      } else if (fa.l < 0.0) {
+        const long reachQ = std::min(q1, q + static_cast<long>(std::min(-fa.l / h8, 1e15)) + 1);
+        const Box2 step = xyBox(pq, at(reachQ));
+        const Box2 inDomain{std::max(step.x0, dom.x0), std::max(step.y0, dom.y0), std::min(step.x1, dom.x1), std::min(step.y1, dom.y1)};
+        const double lf = lipschitzAlong(ray.dir, field_.bound(inDomain), workpieceKind_);
+        n = static_cast<long>(std::min((-fa.l - kPruneEps) / (lf * h8), 1e15));
+        n = std::max(0L, std::min(n, rc.nextWindow(q + 1, q1 + 1) - q - 1));
+      }
+      shortSteps = n < kSubdivisions / 8 ? shortSteps + 1 : 0;
+      if (shortSteps < 6) {
+        prevQ = q, prevF = fa.f;
+        q += n + 1;
+        known = false;
+        continue;
+      }
+      // Creeping along a near miss: search a whole cell at once instead.
+      shortSteps = 0;
+    } else {
+      // Inside a window: skip what intervals prove empty, trying long stretches first (a failed
+      // stretch is not tried again until it is passed).
+      bool skipped = false;
+      for (int level = 0; level < 3 && !skipped; ++level) {
+        const long len = level == 0 ? 4 * kSpan : level == 1 ? kSpan : kCell;
+        if (level < 2 && q < failedUntil[level]) continue;
+        if (empty(q, unknown, q + len, unknown)) {
+          q += len;
+          skipped = true;
+        } else if (level < 2) {
+          failedUntil[level] = q + len;
+        }
+      }
+      if (skipped) {
+        known = false;
+        prevQ = q0 - 2;
+        continue;
+      }
+      cellChecked = true;
+      if (!known) fa = value(q), known = true;
+      if (fa.f >= 0.0) {
+        if (q == q0) {
+          tHit = static_cast<double>(q) * h8;
+          break;
+        }
+        bfa = prevQ == q - 1 ? prevF : value(q - 1).f;
+        bq = q, bfb = fa.f, bracketed = true;
+        break;
+      }
+    }
+    const Val fb = value(q + kCell);
+    if (search(search, q, fa, q + kCell, fb, cellChecked)) {
+      bracketed = true;
+      break;
+    }
+    prevQ = q0 - 2;  // f(q + kCell - 1) is not known
+    q += kCell, fa = fb;
+  }
+  if (bracketed) {
+    // Regula falsi with the Illinois modification inside [bq - 1, bq]: a function of
+    // f on that sixty-fourth of a cell alone.
+    double a = static_cast<double>(bq - 1) * h8, b = static_cast<double>(bq) * h8, fa = bfa, fb = bfb;
+    int side = 0;
+    for (int i = 0; i < kRefinements; ++i) {
+      const double t = b - fb * (b - a) / (fb - fa);
+      if (!(t > a && t < b)) break;
+      const double ft = fieldValue(rc, ray.origin + t * ray.dir, st, scratch);
+      if (ft >= 0.0) {
+        b = t, fb = ft;
+        if (side == 1) fa *= 0.5;
+        side = 1;
+      } else {
+        a = t, fa = ft;
+        if (side == -1) fb *= 0.5;
+        side = -1;
+      }
+      if (std::abs(ft) < 1e-12) break;
+    }
+    tHit = std::clamp(b - fb * (b - a) / (fb - fa), a, b);
+  }
+  if (!tHit) return std::nullopt;
+  ++st.hits;
+  const glm::dvec3 p = ray.origin + *tHit * ray.dir;
+  return Hit{p, fieldNormal(p, st, scratch), ray.dir};
+}
+
+
+template double Renderer::exactDisplacement(const P3<double>&, std::span<const std::uint32_t>, RenderStats&) const;
+
+}  // namespace emboss

@@ -1,0 +1,161 @@
+// What the renderer's parts share (renderer.cpp: frames, the exact tracer and dirty regions;
+// renderer_sync.cpp: the model and camera taken in; renderer_field.cpp: the field tracer): the
+// tracers' constants, small geometry helpers, and the per-ray context. Not for use elsewhere.
+#pragma once
+
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <mutex>
+#include <limits>
+#include <numeric>
+#include <type_traits>
+
+#include "frep/kernels.h"
+#include "frep/vm_model.h"
+#include "frep/workpieces.h"
+#include "render/set_op_bounds.h"
+#include "render/srgb8.h"
+
+namespace emboss {
+namespace render_internal {
+
+
+// Exact tracer.
+inline constexpr int kSpanSteps = 8;
+inline constexpr int kBisections = 40;
+inline constexpr int kThinSplits = 3;
+
+// Field tracer.
+inline constexpr double kFieldSpacing = 0.125;    // mm between displacement samples
+inline constexpr double kMaxFieldSamples = 32e6;  // beyond this the spacing grows (a huge workpiece)
+inline constexpr double kFieldMargin = 2.0;       // mm of field beyond the workpiece's bounds
+inline constexpr int kSubdivisions = 64;          // a cell is searched down to h / 64 (as the exact tracer)
+inline constexpr int kRefinements = 1;            // regula falsi (Illinois) steps inside the final h / 64
+inline constexpr double kPruneEps = 1e-7;         // mm: a bound must clear zero by this much to skip
+inline constexpr int kRecomputeTile = 64;         // samples per side of a field tile recomputed in parallel
+
+inline P3<Interval> boxOf(const glm::dvec3& a, const glm::dvec3& b) {
+  return {Interval(std::min(a.x, b.x), std::max(a.x, b.x)), Interval(std::min(a.y, b.y), std::max(a.y, b.y)),
+          Interval(std::min(a.z, b.z), std::max(a.z, b.z))};
+}
+
+// The parameter range [t0, t1] (t0 >= 0) where the ray is inside the box (slabs, one division a
+// component).
+inline bool clipRay(const Ray& ray, const Box3& b, double& t0, double& t1) {
+  t0 = 0.0, t1 = 1e30;
+  const double lo[3] = {b.x0, b.y0, b.z0}, hi[3] = {b.x1, b.y1, b.z1};
+  for (int k = 0; k < 3; ++k) {
+    const double o = ray.origin[k], d = ray.dir[k];
+    if (std::abs(d) < 1e-15) {
+      if (o < lo[k] || o > hi[k]) return false;
+      continue;
+    }
+    const double inv = 1.0 / d;
+    double ta = (lo[k] - o) * inv, tb = (hi[k] - o) * inv;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+    if (!(t0 < t1)) return false;
+  }
+  return t0 < t1;
+}
+
+inline double secondsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// A Lipschitz constant along the unit direction d of f = W(x, y, z - D(x, y)), where D's slopes
+// are bounded by b and W is one of the built-in workpieces: each is the min of terms whose rates
+// along d are bounded by |dx|, |dy| (the plate's sides), |(dx, dy)| (a round rim), |dz'| (the
+// faces; z' = z - D, dz'/dt = dz - grad D . (dx, dy)) or |(dx, dy, dz')| (the bowl's shell), and a
+// min changes no faster than its fastest term. Kind 4 (outline sheets) bounds the slab d - |z'|.
+inline double lipschitzAlong(const glm::dvec3& d, const HeightField::Bound& b, int workpieceKind) {
+  const double slo = b.gxlo * (d.x >= 0 ? d.x : 0.0) + b.gxhi * (d.x < 0 ? d.x : 0.0) + b.gylo * (d.y >= 0 ? d.y : 0.0) +
+                     b.gyhi * (d.y < 0 ? d.y : 0.0);
+  const double shi = b.gxhi * (d.x >= 0 ? d.x : 0.0) + b.gxlo * (d.x < 0 ? d.x : 0.0) + b.gyhi * (d.y >= 0 ? d.y : 0.0) +
+                     b.gylo * (d.y < 0 ? d.y : 0.0);
+  const double dz = std::max(std::abs(d.z - slo), std::abs(d.z - shi));
+  double l;
+  switch (workpieceKind) {
+    case 1: l = std::max({std::abs(d.x), std::abs(d.y), dz}); break;              // plate
+    case 2: l = std::max(std::sqrt(d.x * d.x + d.y * d.y), dz); break;            // disc
+    case 4: l = dz; break;                                                         // the slab alone
+    default: l = std::sqrt(d.x * d.x + d.y * d.y + dz * dz); break;               // bowl
+  }
+  return l * (1.0 + 1e-9) + 1e-12;
+}
+
+inline Box2 xyBox(const glm::dvec3& a, const glm::dvec3& b) {
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.x, b.x), std::max(a.y, b.y)};
+}
+
+inline Box3 unite(const Box3& a, const Box3& b) {
+  return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::min(a.z0, b.z0),
+          std::max(a.x1, b.x1), std::max(a.y1, b.y1), std::max(a.z1, b.z1)};
+}
+
+
+}  // namespace render_internal
+
+// Per ray: the set operations its cells can meet, the windows of the ray where they can act,
+// and the Lipschitz constant of f outside those windows when there is one.
+struct Renderer::RayContext {
+  static constexpr int kMaxSetOps = 32;
+  const SetOp* setOps[kMaxSetOps];
+  int setOpCount = 0;
+  bool allSetOps = false;  // more than kMaxSetOps: test every one
+  // Lipschitz: W is 1-Lipschitz and D comes from the field along the whole ray, so outside the
+  // windows |df/dt| <= lf; inside them (and everywhere without it) intervals bound f.
+  bool lipschitz = false;
+  double lf = 0.0;
+  static constexpr int kMaxWindows = 8;
+  long winLo[kMaxWindows], winHi[kMaxWindows];  // ascending, disjoint, in grid units
+  int windows = 0;
+  bool inWindow(long qa, long qb) const {
+    for (int i = 0; i < windows; ++i)
+      if (winLo[i] <= qb && qa <= winHi[i]) return true;
+    return false;
+  }
+  // Stretches proven outside (outline sheets: the ray over columns where W < 0).
+  long skipLo[kMaxWindows], skipHi[kMaxWindows];
+  int skips = 0;
+  // The last point of the skip stretch holding q, or q - 1.
+  long skipEnd(long q) const {
+    for (int i = 0; i < skips; ++i)
+      if (skipLo[i] <= q && q <= skipHi[i]) return skipHi[i];
+    return q - 1;
+  }
+  bool inSkip(long qa, long qb) const {
+    for (int i = 0; i < skips; ++i)
+      if (skipLo[i] <= qa && qb <= skipHi[i]) return true;
+    return false;
+  }
+  // Adds a window [lo, hi], merging overlaps; too many windows become one up to `last`.
+  void addWindow(long lo, long hi, long last) {
+    int i = 0;
+    while (i < windows && winHi[i] < lo) ++i;
+    int j = i;
+    while (j < windows && winLo[j] <= hi) lo = std::min(lo, winLo[j]), hi = std::max(hi, winHi[j]), ++j;
+    if (windows - (j - i) + 1 > kMaxWindows) {
+      lo = std::min(lo, winLo[0]);
+      winLo[0] = lo, winHi[0] = last, windows = 1;
+      return;
+    }
+    const int tail = windows - j;
+    std::move(winLo + j, winLo + j + tail, winLo + i + 1);
+    std::move(winHi + j, winHi + j + tail, winHi + i + 1);
+    winLo[i] = lo, winHi[i] = hi;
+    windows = i + 1 + tail;
+  }
+  // The first grid point >= q inside a window (or `none`).
+  long nextWindow(long q, long none) const {
+    for (int i = 0; i < windows; ++i)
+      if (winHi[i] >= q) return std::max(q, winLo[i]);
+    return none;
+  }
+};
+
+}  // namespace emboss

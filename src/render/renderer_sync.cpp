@@ -1,0 +1,301 @@
+// The renderer takes in the model (the displacement field, its columns and set operations) and the
+// camera (renderer.h).
+#include "render/renderer_internal.h"
+
+namespace emboss {
+
+using namespace render_internal;
+
+// ---------------------------------------------------------------- sync
+
+void Renderer::sync(const Model& model) {
+  // Another model is followed from scratch (its operation ids are its own).
+  if (model_ != &model) fieldReady_ = false;
+  model_ = &model;
+  grid_.sync(model);
+  bounds_ = model.bounds();
+  // The step: a quarter of the sheet's thickness, at most 0.25 mm: a sheet can never slip between
+  // two samples, and the thin-feature splits go down to h / 64. Depends on the workpiece only.
+  step_ = std::min(0.25, 0.5 * model.workpiece().halfThickness());
+  all_.resize(model.activeCount());
+  std::iota(all_.begin(), all_.end(), 0u);
+  lastSync_ = {};
+  fieldChanges_.clear();
+  if (model.deformation() == Deformation::Sheet) {
+    syncField(model);
+  } else {
+    field_.clear();
+    fieldReady_ = false;
+    fieldWorkpiece_ = nullptr;
+    fieldIds_.clear();
+    fieldSupports_.clear();
+  }
+  syncSetOps(model);
+}
+
+void Renderer::rebuildField(const Model& model) {
+  const Box3 wb = model.workpiece().bounds();
+  const Box2 domain = wb.xy().grown(kFieldMargin);
+  const double area = (domain.x1 - domain.x0) * (domain.y1 - domain.y0);
+  const double spacing = std::max(kFieldSpacing, std::sqrt(area / kMaxFieldSamples));
+  field_.configure(domain, spacing);
+  fieldWorkpiece_ = model.workpiecePtr();
+  const Workpiece* w = fieldWorkpiece_.get();
+  workpieceKind_ = dynamic_cast<const Plate*>(w) ? 1 : dynamic_cast<const Disc*>(w) ? 2 : dynamic_cast<const Bowl*>(w) ? 3 : 0;
+  const auto* vm = dynamic_cast<const VmWorkpiece*>(w);
+  if (vm && vm->isPlate()) workpieceKind_ = 4;
+  if (workpieceKind_ == 4) buildColumns();
+  bool anyOffset = false;
+  for (size_t i = 0; i < model.activeCount() && !anyOffset; ++i) anyOffset = model.operations()[i].op().isOffset();
+  if (anyOffset) {
+    recomputeField(model, field_.all());
+    field_.finish(field_.all(), &pool_);
+  } else {
+    field_.finishFlat();  // a bare sheet (a new attract piece, a new visitor): nothing to visit
+  }
+  fieldReady_ = true;
+  lastSync_.rebuilt = true;
+  lastSync_.samplesUpdated += field_.all().count();
+  const size_t active = model.activeCount();
+  fieldIds_.assign(model.operationIds().begin(), model.operationIds().begin() + static_cast<std::ptrdiff_t>(active));
+  fieldSupports_.clear();
+  for (size_t i = 0; i < active; ++i) fieldSupports_.push_back(model.operations()[i].support());
+}
+
+Renderer::ColumnMap::Column Renderer::ColumnMap::block(int i, int j) const {
+  // Beyond the workpiece's bounds W < 0.
+  if (i < 0 || j < 0 || i >= nx || j >= ny) return {-std::numeric_limits<float>::infinity(), -1.0f};
+  const size_t k = static_cast<size_t>(j) * nx + i;
+  return {lo[k], hi[k]};
+}
+
+Renderer::ColumnMap::Column Renderer::ColumnMap::at(double x, double y) const {
+  return block(static_cast<int>(std::floor((x - x0) * inv)), static_cast<int>(std::floor((y - y0) * inv)));
+}
+
+// The documented form of a 2D vm workpiece is W = min(O(x, y), d - |z|), so W over a column box
+// at z = 0 bounds min(O, d): proven outside where its high end is negative, the slab where the
+// slab is below its low end.
+void Renderer::buildColumns() {
+  const Workpiece& w = *fieldWorkpiece_;
+  ColumnMap& c = columns_;
+  const Box2 dom = field_.domain();
+  c.size = 2.0 * field_.spacing();
+  c.inv = 1.0 / c.size;
+  c.x0 = dom.x0, c.y0 = dom.y0;
+  c.nx = static_cast<int>(std::ceil((dom.x1 - dom.x0) * c.inv));
+  c.ny = static_cast<int>(std::ceil((dom.y1 - dom.y0) * c.inv));
+  c.halfThickness = w.halfThickness();
+  c.lo.assign(static_cast<size_t>(c.nx) * c.ny, 0.0f);
+  c.hi.assign(c.lo.size(), 0.0f);
+  const double d = c.halfThickness;
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  auto bounds = [&](int i0, int j0, int i1, int j1) {
+    const Interval v = w.value(P3<Interval>{Interval(c.x0 + i0 * c.size, c.x0 + i1 * c.size),
+                                            Interval(c.y0 + j0 * c.size, c.y0 + j1 * c.size), Interval(0.0)});
+    const double m = 1e-9 * (1.0 + std::abs(v.lo) + std::abs(v.hi));
+    float lo = std::nextafter(static_cast<float>(v.lo - m), -inf);
+    float hi = std::nextafter(static_cast<float>(v.hi + m), inf);
+    if (hi < 0.0f) lo = -inf;                          // outside: the slab never applies
+    if (v.lo >= d + m) lo = static_cast<float>(2 * d);  // inside: the slab always applies
+    return ColumnMap::Column{lo, hi};
+  };
+  // 2 mm leaves, then the undecided ones block by block (finer blocks cost more at load than
+  // they save in frames: measured in docs/performance.md).
+  auto decided = [&](const ColumnMap::Column& b) { return b.hi < 0.0f || b.lo >= static_cast<float>(d); };
+  auto fill = [&](int i0, int j0, int i1, int j1, const ColumnMap::Column& b) {
+    for (int j = j0; j < j1; ++j)
+      for (int i = i0; i < i1; ++i) {
+        const size_t k = static_cast<size_t>(j) * c.nx + i;
+        c.lo[k] = b.lo, c.hi[k] = b.hi;
+      }
+  };
+  auto refine = [&](auto& self, int i0, int j0, int i1, int j1, int size) -> void {
+    const ColumnMap::Column b = bounds(i0, j0, i1, j1);
+    if (size == 1 || decided(b)) {
+      fill(i0, j0, i1, j1, b);
+      return;
+    }
+    const int sub = 1;
+    for (int j = j0; j < j1; j += sub)
+      for (int i = i0; i < i1; i += sub) self(self, i, j, std::min(i + sub, i1), std::min(j + sub, j1), sub);
+  };
+  constexpr int kLeaf = 8;
+  const Rect leaves{0, 0, (c.nx + kLeaf - 1) / kLeaf, (c.ny + kLeaf - 1) / kLeaf};
+  pool_.parallelFor2D(leaves, 4, [&](const Rect& t) {
+    for (int lb = t.y; lb < t.y + t.h; ++lb)
+      for (int la = t.x; la < t.x + t.w; ++la) {
+        const int i0 = la * kLeaf, j0 = lb * kLeaf;
+        refine(refine, i0, j0, std::min(i0 + kLeaf, c.nx), std::min(j0 + kLeaf, c.ny), kLeaf);
+      }
+  });
+}
+
+void Renderer::recomputeField(const Model& model, const HeightField::SampleRect& rIn) {
+  const HeightField::SampleRect r = field_.clamp(rIn);
+  if (r.empty()) return;
+  const auto& ops = model.operations();
+  auto work = [&](const Rect& t) {
+    const HeightField::SampleRect tr{t.x, t.y, t.x + t.w - 1, t.y + t.h - 1};
+    thread_local std::vector<std::uint32_t> scratch;
+    thread_local std::vector<const PreparedOp*> list;
+    const Box2 box{field_.sampleX(tr.i0), field_.sampleY(tr.j0), field_.sampleX(tr.i1), field_.sampleY(tr.j1)};
+    list.clear();
+    for (std::uint32_t i : grid_.in(box, scratch))
+      if (ops[i].op().isOffset()) list.push_back(&ops[i]);
+    field_.recompute(tr, list);
+  };
+  const Rect whole{r.i0, r.j0, r.i1 - r.i0 + 1, r.j1 - r.j0 + 1};
+  if (whole.w <= kRecomputeTile && whole.h <= kRecomputeTile)
+    work(whole);
+  else
+    pool_.parallelFor2D(whole, kRecomputeTile, work);
+}
+
+void Renderer::syncField(const Model& model) {
+  if (!fieldReady_ || fieldWorkpiece_.get() != &model.workpiece()) {
+    rebuildField(model);
+    return;
+  }
+  const auto& ops = model.operations();
+  const auto& ids = model.operationIds();
+  const size_t active = model.activeCount();
+  size_t p = 0;
+  while (p < fieldIds_.size() && p < active && fieldIds_[p] == ids[p]) ++p;
+  if (p == fieldIds_.size()) {
+    // Appends only (a new stroke, a redo): each adds its kernel to the samples under its support,
+    // continuing every sample's sum in index order.
+    for (size_t i = p; i < active; ++i) {
+      const PreparedOp& op = ops[i];
+      if (op.op().isOffset()) {
+        const HeightField::SampleRect r = field_.samplesIn(op.support());
+        field_.add(op, &pool_);
+        field_.finish(r, &pool_);
+        lastSync_.samplesUpdated += r.count();
+        fieldChanges_.push_back({true, static_cast<std::uint32_t>(i), op.support()});
+      }
+      fieldIds_.push_back(ids[i]);
+      fieldSupports_.push_back(op.support());
+    }
+    return;
+  }
+  // Operations removed (undo) or replaced: the samples under them are summed again from 0.0 over
+  // the active offsets, in index order, as a full build does.
+  std::vector<HeightField::SampleRect> regions;
+  long total = 0;
+  auto note = [&](const Box2& support) {
+    fieldChanges_.push_back({false, 0, support});
+    const HeightField::SampleRect r = field_.samplesIn(support);
+    if (r.empty()) return;
+    regions.push_back(r);
+    total += r.count();
+  };
+  for (size_t i = p; i < fieldIds_.size(); ++i) note(fieldSupports_[i]);
+  for (size_t i = p; i < active; ++i)
+    if (ops[i].op().isOffset()) note(ops[i].support());
+  if (total > field_.all().count() / 4) {
+    rebuildField(model);
+    return;
+  }
+  for (const auto& r : regions) {
+    recomputeField(model, r);
+    field_.finish(r, &pool_);
+    lastSync_.samplesUpdated += r.count();
+  }
+  fieldIds_.assign(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(active));
+  fieldSupports_.resize(p);
+  for (size_t i = p; i < active; ++i) fieldSupports_.push_back(ops[i].support());
+}
+
+double Renderer::peakOf(const Operation& o) const {
+  switch (o.kind) {
+    case OpKind::Trace: return o.a;
+    case OpKind::Punch: return std::abs(o.p) * o.a;
+    case OpKind::Press: return std::abs(o.p) * o.a * 17.0;
+    case OpKind::Region: return std::abs(o.height);
+    default: return 0.0;
+  }
+}
+
+void Renderer::syncSetOps(const Model& model) {
+  std::vector<SetOp> old;
+  old.swap(setOps_);
+  size_t reuse = 0;
+  const auto& ops = model.operations();
+  const auto& ids = model.operationIds();
+  const size_t active = model.activeCount();
+  std::vector<std::uint32_t> scratch;
+  std::vector<const PreparedOp*> list;
+  // The offsets after set operation i that may reach `box`, ascending.
+  auto offsetsAfter = [&](size_t i, const Box2& box) {
+    list.clear();
+    for (std::uint32_t j : grid_.in(box, scratch))
+      if (j > i && ops[j].op().isOffset()) list.push_back(&ops[j]);
+    return std::span<const PreparedOp* const>(list);
+  };
+  for (size_t i = 0; i < active; ++i) {
+    const PreparedOp& op = ops[i];
+    if (op.op().isOffset()) continue;
+    SetOp s;
+    s.index = static_cast<std::uint32_t>(i);
+    s.id = ids[i];
+    s.support = op.support();
+    while (reuse < old.size() && old[reuse].id != s.id) ++reuse;
+    if (fieldReady_ && reuse < old.size() && old[reuse].shift && !lastSync_.rebuilt) {
+      // Follow the field's changes: appended offsets add, recomputed regions are summed again.
+      s.shift = std::move(old[reuse].shift);
+      HeightField& f = *s.shift;
+      for (const FieldChange& c : fieldChanges_) {
+        if (!c.region.overlaps(s.support)) continue;
+        const HeightField::SampleRect r = f.samplesIn(c.region);
+        if (r.empty()) continue;
+        if (c.append) {
+          if (c.index <= i) continue;
+          f.add(ops[c.index]);
+        } else {
+          f.recompute(r, offsetsAfter(i, c.region));
+        }
+        f.finish(r);
+      }
+    } else if (fieldReady_) {
+      s.shift = std::make_shared<HeightField>();
+      s.shift->configure(s.support, field_.spacing());
+      s.shift->recompute(s.shift->all(), offsetsAfter(i, s.support));
+      s.shift->finish(s.shift->all());
+    }
+    const HeightField::Bound shift = s.shift ? s.shift->rootBound() : HeightField::Bound{};
+    const Box3 tb = op.op().tool.bounds();
+    const double reach = kernels::kSupportSpan * op.op().tool.size();
+    s.zlo = tb.z0 - reach + shift.lo;
+    s.zhi = tb.z1 + reach + shift.hi;
+    setOps_.push_back(std::move(s));
+  }
+  if (!fieldReady_) return;
+  // Every surface of the field tracer's function: the workpiece moved by the field's range, and
+  // the set operations' boxes.
+  const Box3 wb = model.workpiece().bounds();
+  const HeightField::Bound r = field_.rootBound();
+  Box3 clip{wb.x0, wb.y0, wb.z0 + r.lo, wb.x1, wb.y1, wb.z1 + r.hi};
+  for (const SetOp& s : setOps_) clip = unite(clip, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi});
+  const double m = 1e-6 * (1.0 + std::max({std::abs(clip.x0), std::abs(clip.x1), std::abs(clip.y0), std::abs(clip.y1)}));
+  fieldClip_ = {clip.x0 - m, clip.y0 - m, clip.z0 - m, clip.x1 + m, clip.y1 + m, clip.z1 + m};
+}
+
+void Renderer::setCamera(const Camera& camera) {
+  const bool sameSize = camera_ && camera_->width() == camera.width() && camera_->height() == camera.height();
+  camera_ = camera;
+  if (sameSize && !backdrop_.empty()) return;
+  // The backdrop depends on the pixel and the picture's size alone: computed once per camera.
+  const int w = camera.width(), h = camera.height();
+  backdrop_.assign(static_cast<size_t>(w) * h * 3, 0);
+  pool_.parallelFor2D(Rect{0, 0, w, h}, 64, [&](const Rect& t) {
+    for (int y = t.y; y < t.y + t.h; ++y)
+      for (int x = t.x; x < t.x + t.w; ++x) {
+        const auto rgb = toSrgb8Fast(backdrop(x, y, w, h));
+        std::copy(rgb.begin(), rgb.end(), &backdrop_[(static_cast<size_t>(y) * w + x) * 3]);
+      }
+  });
+}
+
+
+}  // namespace emboss
