@@ -8,6 +8,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/baseline_2d.h"
 #include "bench/piece_generator.h"
 #include "frep/vm_generate.h"
 #include "frep/vm_model.h"
@@ -60,6 +61,34 @@ struct Setup {
   int width, height, threads, frames, strokes;
   bool quick;
 };
+
+// The yardstick timed in the same run (bench/baseline_2d.h).
+struct Baseline {
+  int clauses = 0, size = 0;
+  double ms = 0;  // median
+  long intervalEvals = 0, pointEvals = 0;
+  double inside = 0;  // fraction of the pixels
+};
+
+Baseline measureBaseline(ThreadPool& pool, bool quick) {
+  Baseline b;
+  b.clauses = quick ? 1000 : 7866;
+  b.size = quick ? 256 : 1024;
+  auto program = VmProgram::parse(generateVmRelief(b.clauses, 11), "baseline");
+  if (!program) {
+    std::fprintf(stderr, "emboss bench: baseline: %s\n", program.error().c_str());
+    return b;
+  }
+  std::vector<double> ms;
+  for (int i = 0; i < (quick ? 2 : 5); ++i) {
+    const Baseline2dResult r = renderBaseline2d(*program, b.size, 1.1, pool);
+    ms.push_back(r.ms);
+    b.intervalEvals = r.intervalEvals, b.pointEvals = r.pointEvals;
+    b.inside = static_cast<double>(r.insidePixels) / (static_cast<double>(b.size) * b.size);
+  }
+  b.ms = median(ms);
+  return b;
+}
 
 ShadingParams shadingFor(const Model& m) {
   ShadingParams s;
@@ -184,17 +213,21 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
   return row;
 }
 
-std::string table(const std::vector<Row>& rows, const Setup& s, int cores) {
+std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const Baseline& b) {
   std::string t;
   t += "Machine: " + std::to_string(cores) + " cores reported, " + std::to_string(s.threads) + " render threads; " +
        std::to_string(s.width) + "x" + std::to_string(s.height) + " pixels; medians of " + std::to_string(s.frames) +
-       " full frames; means of " + std::to_string(s.strokes) + " strokes of each kind.\n\n";
-  t += "| piece | ops | build ms | full frame ms | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | field MB |\n";
-  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       " full frames; means of " + std::to_string(s.strokes) + " strokes of each kind.\n";
+  t += "Baseline (same run, same threads): a plain interval-pruning 2D renderer (bench/baseline_2d.h) of a generated " +
+       std::to_string(b.clauses) + "-clause vm model at " + std::to_string(b.size) + "x" + std::to_string(b.size) + ": " +
+       fmt("%.1f", b.ms) + " ms (median; " + std::to_string(b.intervalEvals) + " interval and " + std::to_string(b.pointEvals) +
+       " point evaluations, " + fmt("%.0f", 100.0 * b.inside) + "% inside). Target: a full frame <= 1.5x it.\n\n";
+  t += "| piece | ops | build ms | full frame ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | field MB |\n";
+  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
     const double ratio = r.fieldWindowMs > 0 ? r.naiveWindowMs / r.fieldWindowMs : 0.0;
     t += "| " + r.piece + " | " + std::to_string(r.ops) + " | " + fmt("%.0f", r.buildMs) + " | " + fmt("%.1f", r.frameMs) +
-         " | " + fmt("%.0f", r.frameCpuMs) + " (" + fmt("%.0f", r.traceCpuMs) + " + " + fmt("%.0f", r.shadeCpuMs) + ")" +
+         " | " + (b.ms > 0 ? fmt("%.2fx", r.frameMs / b.ms) : std::string("-")) + " | " + fmt("%.0f", r.frameCpuMs) + " (" + fmt("%.0f", r.traceCpuMs) + " + " + fmt("%.0f", r.shadeCpuMs) + ")" +
          " | " + fmt("%.2f", r.punchMs) + " (" + fmt("%.2f", r.punchWorstMs) + ")" + " | " + fmt("%.2f", r.segmentMs) + " (" +
          fmt("%.2f", r.segmentWorstMs) + ")" + " | " + fmt("%.2f", r.undoMs) + " | " + fmt("%.2f", r.opsPerEval) + " | " +
          fmt("%.1f", r.candidates) + " (" + fmt("%.0f", r.candidatesMax) + ") | " + fmt("%.1f", r.exactOpsPerEval) + " | " + fmt("%.2f", r.stepsPerRay) + " | " + fmt("%.2f", r.evalsPerRay) + " | " +
@@ -220,6 +253,8 @@ int benchMain(const std::string& out, int threads, bool quick) {
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   ThreadPool pool(threads);
   Setup s{quick ? 320 : 1280, quick ? 200 : 800, pool.size(), quick ? 2 : 5, quick ? 3 : 20, quick};
+  std::fprintf(stderr, "emboss bench: baseline, plain interval-pruning 2D renderer...\n");
+  const Baseline baseline = measureBaseline(pool, quick);
   std::vector<Row> rows;
   const std::vector<int> sizes = quick ? std::vector<int>{10, 200} : std::vector<int>{10, 850, 3500};
   for (int n : sizes) {
@@ -258,7 +293,7 @@ int benchMain(const std::string& out, int threads, bool quick) {
     piece.camera = defaultCamera(b);
     rows.push_back(measure("vm " + std::to_string(clauses) + " clauses", piece, s, pool, quick ? 8 : 16));
   }
-  const std::string text = table(rows, s, cores);
+  const std::string text = table(rows, s, cores, baseline);
   std::fputs(text.c_str(), stdout);
   if (!out.empty()) {
     std::ofstream f(out);

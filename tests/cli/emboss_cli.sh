@@ -16,6 +16,11 @@ cat >"$tmp/s.json" <<'JSON'
 JSON
 for sub in "" eval render export bench; do check "help $sub" 0 "$emboss" $sub --help; done
 check "no subcommand" 2 "$emboss"
+# The bench's smoke run: its table holds the in-run baseline and every piece's ratio to it.
+check "bench --quick" 0 "$emboss" bench --quick --threads 2
+grep -q '^Baseline (same run, same threads): a plain interval-pruning 2D renderer' "$tmp/out" &&
+  grep -q '| / baseline |' "$tmp/out" && [ "$(grep -c '^| A4 plate | .* | [0-9.]*x | ' "$tmp/out")" -eq 2 ] ||
+  { echo "FAIL bench table: $(head -c 600 "$tmp/out")"; fail=1; }
 check "unknown option" 2 "$emboss" render "$tmp/s.json" -o "$tmp/x.png" --bogus
 check "bad size" 2 "$emboss" render "$tmp/s.json" -o "$tmp/x.png" --size 12
 check "missing scene" 1 "$emboss" eval "$tmp/none.json" 0 0 0
