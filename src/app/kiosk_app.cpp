@@ -533,8 +533,9 @@ std::string KioskApp::statsReport() const {
   }
   if (latency_.count()) {
     std::snprintf(buf, sizeof buf,
-                  "stats: stroke-to-screen latency: %zu updates, mean %.1f ms, median %.1f ms, 95%% %.1f ms, max %.1f ms\n",
-                  latency_.count(), latency_.meanMs(), latency_.percentileMs(50), latency_.percentileMs(95), latency_.maxMs());
+                  "stats: stroke-to-screen latency: %zu updates, mean %.1f ms, median %.1f ms, 95%% %.1f ms, 99%% %.1f ms, max %.1f ms\n",
+                  latency_.count(), latency_.meanMs(), latency_.percentileMs(50), latency_.percentileMs(95), latency_.percentileMs(99),
+                  latency_.maxMs());
   } else {
     std::snprintf(buf, sizeof buf, "stats: stroke-to-screen latency: no strokes\n");
   }
