@@ -68,6 +68,8 @@ struct Baseline {
   double ms = 0;  // median
   long intervalEvals = 0, pointEvals = 0;
   double inside = 0;  // fraction of the pixels
+  double leafTape = 0;
+  std::size_t fullTape = 0;
 };
 
 Baseline measureBaseline(ThreadPool& pool, bool quick) {
@@ -84,6 +86,7 @@ Baseline measureBaseline(ThreadPool& pool, bool quick) {
     const Baseline2dResult r = renderBaseline2d(*program, b.size, 1.1, pool);
     ms.push_back(r.ms);
     b.intervalEvals = r.intervalEvals, b.pointEvals = r.pointEvals;
+    b.leafTape = r.meanLeafTape, b.fullTape = r.fullTape;
     b.inside = static_cast<double>(r.insidePixels) / (static_cast<double>(b.size) * b.size);
   }
   b.ms = median(ms);
@@ -221,7 +224,8 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
   t += "Baseline (same run, same threads): a plain interval-pruning 2D renderer (bench/baseline_2d.h) of a generated " +
        std::to_string(b.clauses) + "-clause vm model at " + std::to_string(b.size) + "x" + std::to_string(b.size) + ": " +
        fmt("%.1f", b.ms) + " ms (median; " + std::to_string(b.intervalEvals) + " interval and " + std::to_string(b.pointEvals) +
-       " point evaluations, " + fmt("%.0f", 100.0 * b.inside) + "% inside). Target: a full frame <= 1.5x it.\n\n";
+       " point evaluations, tapes pruned from " + std::to_string(b.fullTape) + " to " + fmt("%.0f", b.leafTape) +
+       " nodes on average in the 8x8 cells, " + fmt("%.0f", 100.0 * b.inside) + "% inside). Target: a full frame <= 1.5x it.\n\n";
   t += "| piece | ops | build ms | full frame ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | field MB |\n";
   t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {

@@ -30,6 +30,8 @@ TEST(Baseline2d, EveryPixelIsWhatThePointEvaluationSays) {
   EXPECT_LT(inside, size * size) << "and not all of it";
   EXPECT_LT(r.pointEvals, static_cast<long>(size) * size) << "intervals should settle whole cells";
   EXPECT_GT(r.intervalEvals, 0);
+  EXPECT_GT(r.meanLeafTape, 0.0);
+  EXPECT_LT(r.meanLeafTape, 0.5 * static_cast<double>(r.fullTape)) << "intervals should prune the tape near the edge";
 }
 
 }  // namespace
