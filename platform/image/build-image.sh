@@ -117,7 +117,7 @@ packages=(systemd-sysv udev kmod e2fsprogs dosfstools initramfs-tools zstd
 # cached base, as it is; a new one makes a new base.
 packages+=(libc6 libgcc-s1 libstdc++6 libdrm2 libosmesa6 libx11-6 libevdev2 libudev1 libsystemd0
   libgpiod2 libhidapi-hidraw0 libusb-1.0-0 libpng16-16 libjpeg62-turbo libfreetype6 fonts-dejavu-core
-  libsqlite3-0 zlib1g)
+  libsqlite3-0 zlib1g lib3mf1 libmeshoptimizer2d)
 if [ -n "$deb" ]; then
   mapfile -t -O "${#packages[@]}" packages < <(dpkg-deb -f "$deb" Depends | tr ',' '\n' |
     sed 's/|.*//; s/(.*)//; s/:any//; s/[[:space:]]//g' | grep -v '^$')

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli/export_cmd.h"
 #include "export/pov.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -55,9 +56,18 @@ Commands::Commands(CLI::App& app) : app_(app) {
 
   exportCmd_ = app.add_subcommand("export", "Export a scene for another program");
   exportCmd_->add_option("scene", scene_, "Scene file (JSON)")->required();
-  exportCmd_->add_option("--format", format_, "pov (POV-Ray 3.7 isosurface)")->check(CLI::IsMember({"pov"}));
+  exportCmd_->add_option("--format", format_,
+                         "pov (POV-Ray 3.7 isosurface), stl (binary, mm), 3mf, heightmap (16-bit greyscale PNG of the front face)")
+      ->check(CLI::IsMember({"pov", "stl", "3mf", "heightmap"}))
+      ->capture_default_str();
   exportCmd_->add_option("-o,--output", out_, "Output file")->required();
   exportCmd_->add_option("--size", size_, "Picture size WxH the POV camera is set up for")->capture_default_str();
+  exportCmd_->add_option("--resolution", resolution_, "stl, 3mf: the mesh's grid step; heightmap: the pixel (mm; 0: automatic)")
+      ->check(CLI::Range(0.0, 100.0));
+  exportCmd_->add_option("--max-error", maxError_, "stl, 3mf: how far decimation may move a face (mm; 0: no decimation)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  exportCmd_->add_option("--threads", threads_, "Threads (0: one per core)")->check(CLI::Range(0, 256));
 
   benchCmd_ = app.add_subcommand("bench", "Benchmark the renderer on generated pieces; prints a table");
   benchCmd_->add_option("-o,--output", out_, "Also write the table (Markdown) to this file");
@@ -205,6 +215,20 @@ int Commands::exportScene() {
   if (!model) {
     std::fprintf(stderr, "emboss export: %s\n", model.error().c_str());
     return 1;
+  }
+  if (format_ != "pov") {
+    TakeHomeOptions o;
+    o.format = format_;
+    o.resolution = resolution_;
+    o.maxError = maxError_;
+    o.threads = threads_;
+    std::string summary;
+    if (Status s = writeTakeHome(*scene, *model, o, out_, &summary); !s) {
+      std::fprintf(stderr, "emboss export: %s\n", s.error().c_str());
+      return 1;
+    }
+    std::printf("%s\nwrote %s\n", summary.c_str(), out_.c_str());
+    return 0;
   }
   PovExportOptions options;
   options.width = w;

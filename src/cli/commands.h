@@ -36,6 +36,8 @@ class Commands {
   std::string size_ = "1280x800";
   std::string format_ = "pov";
   int threads_ = 0;
+  double resolution_ = 0.0;
+  double maxError_ = 0.01;
   int repeat_ = 1;
   bool naive_ = false;
   bool stats_ = false;

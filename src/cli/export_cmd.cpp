@@ -1,0 +1,112 @@
+// `emboss export --format stl|3mf|heightmap`: the take-home exports (the mesh and the height map).
+#include "cli/export_cmd.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+
+#include "export/heightmap.h"
+#include "export/mesh.h"
+#include "export/stl.h"
+#include "export/threemf.h"
+#include "scene/scene.h"
+#include "util/durable_file.h"
+
+namespace emboss::cli {
+
+namespace {
+
+// A bar on stderr when it is a terminal; nothing otherwise (logs and pipes stay clean).
+class ProgressBar {
+ public:
+  explicit ProgressBar(const char* what) : what_(what), on_(isatty(STDERR_FILENO) == 1) {}
+  ~ProgressBar() { finish(); }
+  void operator()(double fraction) {
+    if (!on_) return;
+    const int width = 30;
+    const int filled = static_cast<int>(fraction * width + 0.5);
+    std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", what_, filled, "##############################", width - filled, "",
+                 static_cast<int>(fraction * 100 + 0.5));
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void finish() {
+    if (shown_) std::fputc('\n', stderr);
+    shown_ = false;
+  }
+
+ private:
+  const char* what_;
+  bool on_;
+  bool shown_ = false;
+};
+
+std::string description(const Scene& scene) {
+  char date[32];
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&now, &tm);
+  std::strftime(date, sizeof date, "%Y-%m-%d", &tm);
+  return "Embossed in " + scene.metal + " with emboss; exported " + date + "; millimetres";
+}
+
+}  // namespace
+
+Status writeTakeHome(const Scene& scene, const Model& model, const TakeHomeOptions& options, const std::string& out,
+                     std::string* summary) {
+  const std::string tmp = out + ".tmp";
+  char line[512];
+  if (options.format == "heightmap") {
+    ProgressBar bar("height map");
+    HeightMapOptions o;
+    o.pixel = options.resolution;
+    o.threads = options.threads;
+    if (options.progressBar) o.progress = [&](double f) { bar(f); };
+    auto map = heightMap(model, o);
+    bar.finish();
+    if (!map) return fail(map.error());
+    auto png = heightMapPng(*map, scene.title);
+    if (!png) return fail(png.error());
+    if (Status s = writeFileAtomically(out, *png); !s) return s;
+    std::snprintf(line, sizeof line, "height map %dx%d, %.4g mm a pixel, z %.4f to %.4f mm", map->width, map->height,
+                  map->pixel, map->zMin, map->zMax);
+    if (summary) *summary = line;
+    return Ok{};
+  }
+  if (options.format != "stl" && options.format != "3mf") return fail("unknown format '" + options.format + "'");
+  ProgressBar bar("mesh");
+  MeshOptions o;
+  o.cell = options.resolution;
+  o.maxError = options.maxError;
+  o.threads = options.threads;
+  if (options.progressBar) o.progress = [&](double f) { bar(f); };
+  MeshStats st;
+  auto mesh = meshModel(model, o, &st);
+  bar.finish();
+  if (!mesh) return fail(mesh.error());
+  if (const std::string problem = checkClosedManifold(*mesh); !problem.empty())
+    std::fprintf(stderr, "emboss export: warning: the mesh is not closed (%s); try a finer --resolution\n", problem.c_str());
+  if (options.format == "stl") {
+    const std::string title = scene.title.empty() ? "emboss piece" : scene.title;
+    if (Status s = writeFileAtomically(out, stlBytes(*mesh, title + " (mm)")); !s) return s;
+  } else {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    if (Status s = write3mf(*mesh, {scene.title, description(scene)}, tmp); !s) {
+      std::filesystem::remove(tmp, ec);
+      return s;
+    }
+    if (Status s = commitFile(tmp, out); !s) return s;
+  }
+  std::snprintf(line, sizeof line,
+                "mesh: %zu triangles (%zu before decimation), %zu vertices, cell %.4g mm, volume %.1f mm^3, area %.1f mm^2, "
+                "distance to the surface: vertices max %.4f mean %.5f mm, faces max %.4f mm, %.1f s",
+                st.triangles, st.fineTriangles, st.vertices, st.cell, st.volume, st.area, st.vertexMax, st.vertexMean,
+                st.faceMax, st.seconds);
+  if (summary) *summary = line;
+  return Ok{};
+}
+
+}  // namespace emboss::cli

@@ -1,0 +1,24 @@
+// The take-home exports behind `emboss export` (and the staff export): STL, 3MF and the height map.
+#pragma once
+
+#include <string>
+
+#include "frep/model.h"
+#include "scene/scene.h"
+#include "util/result.h"
+
+namespace emboss::cli {
+
+struct TakeHomeOptions {
+  std::string format;       // stl, 3mf, heightmap
+  double resolution = 0.0;  // mesh cell or height map pixel, mm; 0: automatic
+  double maxError = 0.01;   // mesh decimation, mm; 0: none
+  int threads = 0;
+  bool progressBar = true;  // on stderr, only when it is a terminal
+};
+
+// Writes `out` atomically; `summary` gets one line of figures (triangles, distances, time).
+Status writeTakeHome(const Scene& scene, const Model& model, const TakeHomeOptions& options, const std::string& out,
+                     std::string* summary = nullptr);
+
+}  // namespace emboss::cli

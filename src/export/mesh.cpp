@@ -1,0 +1,702 @@
+// Marching tetrahedra over an interval-pruned grid, regula falsi onto the surface, meshoptimizer.
+#include "export/mesh.h"
+
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "frep/interval.h"
+#include "frep/op_grid.h"
+#include "render/thread_pool.h"
+
+namespace emboss {
+
+namespace {
+
+constexpr int kBlock = 16;  // cells per block edge; a block is one task and one candidate list
+constexpr int kSamples = kBlock + 1;
+constexpr double kClampT = 0.02;  // an edge vertex stays this fraction of the edge from its ends
+
+// The six tetrahedra of a cube around its main diagonal, each the monotone path 0 -> a -> a|b -> 7
+// over the cube's corners (bit 0: +x, bit 1: +y, bit 2: +z). Every cell is cut the same way, so the
+// diagonals of a shared face agree and the surface has no cracks.
+constexpr int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+
+struct Grid {
+  double ox = 0, oy = 0, oz = 0, h = 1;
+  int nx = 0, ny = 0, nz = 0;  // cells; samples run 0..n
+  int bx = 0, by = 0, bz = 0;  // blocks
+};
+
+// An edge of the grid: its lower sample and its direction (the corner bits it adds, 1..7).
+std::uint64_t edgeKey(int i, int j, int k, int dir) {
+  return (static_cast<std::uint64_t>(i) << 43) | (static_cast<std::uint64_t>(j) << 22) |
+         (static_cast<std::uint64_t>(k) << 3) | static_cast<std::uint64_t>(dir);
+}
+
+struct BlockOut {
+  std::vector<std::uint64_t> keys;
+  std::vector<std::array<double, 3>> pos;
+  std::vector<std::array<std::uint32_t, 3>> tris;  // indices into keys / pos
+};
+
+class BlockMesher {
+ public:
+  BlockMesher(const Model& model, const Grid& g, std::span<const std::uint32_t> candidates, int bi, int bj, int bk,
+              long& evals)
+      : model_(model), g_(g), cand_(candidates), evals_(evals) {
+    i0_ = bi * kBlock;
+    j0_ = bj * kBlock;
+    k0_ = bk * kBlock;
+    ni_ = std::min(kBlock, g.nx - i0_);
+    nj_ = std::min(kBlock, g.ny - j0_);
+    nk_ = std::min(kBlock, g.nz - k0_);
+  }
+
+  void run(BlockOut& out) {
+    out_ = &out;
+    active_.assign(static_cast<size_t>(kBlock) * kBlock * kBlock, 0);
+    classify(0, 0, 0, kBlock);
+    if (!any_) return;
+    samples_.assign(static_cast<size_t>(kSamples) * kSamples * kSamples, std::numeric_limits<double>::quiet_NaN());
+    for (int c = 0; c < nk_; ++c)
+      for (int b = 0; b < nj_; ++b)
+        for (int a = 0; a < ni_; ++a)
+          if (active_[(static_cast<size_t>(c) * kBlock + b) * kBlock + a]) cell(a, b, c);
+  }
+
+ private:
+  double x(int i) const { return g_.ox + (i0_ + i) * g_.h; }
+  double y(int j) const { return g_.oy + (j0_ + j) * g_.h; }
+  double z(int k) const { return g_.oz + (k0_ + k) * g_.h; }
+
+  // Marks the cells of the cube [a, a+n)^3 (block-local) that interval arithmetic cannot prove
+  // to lie wholly inside or wholly outside.
+  void classify(int a, int b, int c, int n) {
+    if (a >= ni_ || b >= nj_ || c >= nk_) return;
+    const int a1 = std::min(a + n, ni_), b1 = std::min(b + n, nj_), c1 = std::min(c + n, nk_);
+    const P3<Interval> box{{x(a), x(a1)}, {y(b), y(b1)}, {z(c), z(c1)}};
+    const Interval f = model_.evaluate(box, cand_);
+    ++evals_;
+    if (f.lo >= 0.0 || f.hi < 0.0) return;  // no sign change in it
+    if (n <= 2) {
+      for (int cc = c; cc < c1; ++cc)
+        for (int bb = b; bb < b1; ++bb)
+          for (int aa = a; aa < a1; ++aa) active_[(static_cast<size_t>(cc) * kBlock + bb) * kBlock + aa] = 1;
+      any_ = true;
+      return;
+    }
+    const int m = n / 2;
+    for (int dc = 0; dc < 2; ++dc)
+      for (int db = 0; db < 2; ++db)
+        for (int da = 0; da < 2; ++da) classify(a + da * m, b + db * m, c + dc * m, m);
+  }
+
+  double eval(double px, double py, double pz) {
+    ++evals_;
+    return model_.evaluate(P3<double>{px, py, pz}, cand_);
+  }
+
+  // The model at a sample; on the grid's outer boundary it is taken as outside, so the surface is
+  // closed even where a model reaches its bounds.
+  double sample(int a, int b, int c) {
+    double& s = samples_[(static_cast<size_t>(c) * kSamples + b) * kSamples + a];
+    if (std::isnan(s)) {
+      const int gi = i0_ + a, gj = j0_ + b, gk = k0_ + c;
+      if (gi == 0 || gj == 0 || gk == 0 || gi == g_.nx || gj == g_.ny || gk == g_.nz) {
+        s = -1.0;
+      } else {
+        s = eval(x(a), y(b), z(c));
+        if (std::isnan(s)) s = -1.0;
+      }
+    }
+    return s;
+  }
+
+  // The vertex on the edge between cube corners u and v (u's bits a subset of v's) of cell (a,b,c).
+  std::uint32_t vertex(int a, int b, int c, int u, int v, const double* fc) {
+    const int ua = a + (u & 1), ub = b + ((u >> 1) & 1), uc = c + ((u >> 2) & 1);
+    const std::uint64_t key = edgeKey(i0_ + ua, j0_ + ub, k0_ + uc, u ^ v);
+    auto [it, fresh] = local_.try_emplace(key, static_cast<std::uint32_t>(out_->keys.size()));
+    if (!fresh) return it->second;
+    const std::array<double, 3> pu{x(ua), y(ub), z(uc)};
+    const std::array<double, 3> pv{x(a + (v & 1)), y(b + ((v >> 1) & 1)), z(c + ((v >> 2) & 1))};
+    // Regula falsi (Illinois) from the inside end (f >= 0) at t = 0 to the outside end at t = 1.
+    const bool uIn = fc[u] >= 0.0;
+    const auto& pin = uIn ? pu : pv;
+    const auto& pout = uIn ? pv : pu;
+    double ta = 0, tb = 1, fa = uIn ? fc[u] : fc[v], fb = uIn ? fc[v] : fc[u];
+    double wa = fa, wb = fb;  // Illinois weights
+    int side = 0;
+    for (int iter = 0; iter < 4 && wa - wb > 0.0; ++iter) {
+      const double t = ta + (tb - ta) * wa / (wa - wb);
+      const double ft = eval(pin[0] + t * (pout[0] - pin[0]), pin[1] + t * (pout[1] - pin[1]),
+                             pin[2] + t * (pout[2] - pin[2]));
+      if (std::isnan(ft)) break;
+      if (ft >= 0.0) {
+        ta = t;
+        fa = wa = ft;
+        if (side == 1) wb *= 0.5;
+        side = 1;
+      } else {
+        tb = t;
+        fb = wb = ft;
+        if (side == -1) wa *= 0.5;
+        side = -1;
+      }
+    }
+    double t = fa - fb > 0.0 ? ta + (tb - ta) * fa / (fa - fb) : 0.5 * (ta + tb);
+    t = std::clamp(t, kClampT, 1.0 - kClampT);
+    out_->keys.push_back(key);
+    out_->pos.push_back({pin[0] + t * (pout[0] - pin[0]), pin[1] + t * (pout[1] - pin[1]), pin[2] + t * (pout[2] - pin[2])});
+    return it->second;
+  }
+
+  void cell(int a, int b, int c) {
+    double fc[8];
+    int inside = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      fc[corner] = sample(a + (corner & 1), b + ((corner >> 1) & 1), c + ((corner >> 2) & 1));
+      if (fc[corner] >= 0.0) inside |= 1 << corner;
+    }
+    if (inside == 0 || inside == 0xff) return;
+    for (const auto& tet : kTets) {
+      int in[4], out[4], nin = 0, nout = 0;
+      for (int q = 0; q < 4; ++q) (inside >> tet[q] & 1 ? in[nin++] : out[nout++]) = tet[q];
+      if (nin == 0 || nout == 0) continue;
+      // In a path tetrahedron every pair of corners is ordered by inclusion of their bits.
+      auto edge = [&](int p, int q) { return (p & q) == p ? vertex(a, b, c, p, q, fc) : vertex(a, b, c, q, p, fc); };
+      auto emit = [&](std::array<int, 2> e0, std::array<int, 2> e1, std::array<int, 2> e2) {
+        std::array<std::uint32_t, 3> t{edge(e0[0], e0[1]), edge(e1[0], e1[1]), edge(e2[0], e2[1])};
+        // Orientation from the edges' midpoints (never degenerate in a tetrahedron): the normal
+        // points from the inside corners toward the outside ones.
+        auto mid = [](std::array<int, 2> e, int axis) { return 0.5 * (((e[0] >> axis) & 1) + ((e[1] >> axis) & 1)); };
+        double m[3][3];
+        const std::array<int, 2> es[3] = {e0, e1, e2};
+        for (int r = 0; r < 3; ++r)
+          for (int axis = 0; axis < 3; ++axis) m[r][axis] = mid(es[r], axis);
+        const double ux = m[1][0] - m[0][0], uy = m[1][1] - m[0][1], uz = m[1][2] - m[0][2];
+        const double vx = m[2][0] - m[0][0], vy = m[2][1] - m[0][1], vz = m[2][2] - m[0][2];
+        const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+        double dir[3] = {0, 0, 0};
+        for (int q = 0; q < nout; ++q)
+          for (int axis = 0; axis < 3; ++axis) dir[axis] += ((out[q] >> axis) & 1) / double(nout);
+        for (int q = 0; q < nin; ++q)
+          for (int axis = 0; axis < 3; ++axis) dir[axis] -= ((in[q] >> axis) & 1) / double(nin);
+        if (nx * dir[0] + ny * dir[1] + nz * dir[2] < 0.0) std::swap(t[1], t[2]);
+        out_->tris.push_back(t);
+      };
+      if (nin == 1) {
+        emit({in[0], out[0]}, {in[0], out[1]}, {in[0], out[2]});
+      } else if (nout == 1) {
+        emit({in[0], out[0]}, {in[1], out[0]}, {in[2], out[0]});
+      } else {
+        // The quad (in0,out0) (in1,out0) (in1,out1) (in0,out1), in cyclic order.
+        emit({in[0], out[0]}, {in[1], out[0]}, {in[1], out[1]});
+        emit({in[0], out[0]}, {in[1], out[1]}, {in[0], out[1]});
+      }
+    }
+  }
+
+  const Model& model_;
+  const Grid& g_;
+  std::span<const std::uint32_t> cand_;
+  long& evals_;
+  int i0_ = 0, j0_ = 0, k0_ = 0, ni_ = 0, nj_ = 0, nk_ = 0;
+  bool any_ = false;
+  std::vector<std::uint8_t> active_;
+  std::vector<double> samples_;
+  std::unordered_map<std::uint64_t, std::uint32_t> local_;
+  BlockOut* out_ = nullptr;
+};
+
+struct FloatKey {
+  std::uint32_t x, y, z;
+  bool operator==(const FloatKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct FloatKeyHash {
+  size_t operator()(const FloatKey& k) const {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h ^= (h >> 29) + k.y * 0xBF58476D1CE4E5B9ull;
+    h ^= (h >> 31) + k.z * 0x94D049BB133111EBull;
+    return static_cast<size_t>(h ^ (h >> 32));
+  }
+};
+FloatKey floatKey(const std::array<float, 3>& p) {
+  FloatKey k;
+  float v[3] = {p[0] == 0.0f ? 0.0f : p[0], p[1] == 0.0f ? 0.0f : p[1], p[2] == 0.0f ? 0.0f : p[2]};  // -0 is +0
+  std::memcpy(&k.x, &v[0], 4);
+  std::memcpy(&k.y, &v[1], 4);
+  std::memcpy(&k.z, &v[2], 4);
+  return k;
+}
+
+// Merges vertices whose float positions are equal and drops the triangles that degenerate.
+void weldFloats(TriangleMesh& mesh) {
+  std::unordered_map<FloatKey, std::uint32_t, FloatKeyHash> seen;
+  seen.reserve(mesh.vertices.size());
+  std::vector<std::uint32_t> remap(mesh.vertices.size());
+  std::vector<std::array<float, 3>> kept;
+  kept.reserve(mesh.vertices.size());
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    auto [it, fresh] = seen.try_emplace(floatKey(mesh.vertices[v]), static_cast<std::uint32_t>(kept.size()));
+    if (fresh) kept.push_back(mesh.vertices[v]);
+    remap[v] = it->second;
+  }
+  size_t n = 0;
+  for (auto t : mesh.triangles) {
+    t = {remap[t[0]], remap[t[1]], remap[t[2]]};
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+    mesh.triangles[n++] = t;
+  }
+  mesh.triangles.resize(n);
+  mesh.vertices = std::move(kept);
+}
+
+// Keeps only the vertices some triangle uses, in first-use order.
+void compact(TriangleMesh& mesh) {
+  std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
+  std::vector<std::array<float, 3>> kept;
+  for (auto& t : mesh.triangles)
+    for (auto& v : t) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<std::uint32_t>(kept.size());
+        kept.push_back(mesh.vertices[v]);
+      }
+      v = remap[v];
+    }
+  mesh.vertices = std::move(kept);
+}
+
+float crossLength2(const float* a, const float* b, const float* c, float n[3]) {
+  const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+  const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+  n[0] = uy * vz - uz * vy;
+  n[1] = uz * vx - ux * vz;
+  n[2] = ux * vy - uy * vx;
+  return n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+}
+
+// Simplifying a flat face leaves triangles whose corners are collinear (zero area: the collapse
+// checks see no flip in them). Each is mended by flipping its longest edge with the neighbour across
+// it, when that makes two proper triangles facing the neighbour's way and the new edge is new.
+void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos) {
+  auto p = [&](unsigned int v) { return &pos[3 * v]; };
+  for (int pass = 0; pass < 4; ++pass) {
+    std::unordered_map<std::uint64_t, size_t> edgeTri;
+    for (size_t t = 0; t < n; t += 3)
+      for (int e = 0; e < 3; ++e) edgeTri[(static_cast<std::uint64_t>(ix[t + e]) << 32) | ix[t + (e + 1) % 3]] = t;
+    std::vector<bool> touched(n / 3, false);
+    bool any = false;
+    for (size_t t = 0; t < n; t += 3) {
+      float nt[3];
+      if (touched[t / 3] || crossLength2(p(ix[t]), p(ix[t + 1]), p(ix[t + 2]), nt) != 0.0f) continue;
+      any = true;
+      // The longest edge (a, b); c lies on it.
+      int best = 0;
+      float bestLen = -1.0f;
+      for (int e = 0; e < 3; ++e) {
+        const float* a = p(ix[t + e]);
+        const float* b = p(ix[t + (e + 1) % 3]);
+        const float l = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]);
+        if (l > bestLen) {
+          bestLen = l;
+          best = e;
+        }
+      }
+      const unsigned int a = ix[t + best], b = ix[t + (best + 1) % 3], c = ix[t + (best + 2) % 3];
+      auto it = edgeTri.find((static_cast<std::uint64_t>(b) << 32) | a);
+      if (it == edgeTri.end() || touched[it->second / 3]) continue;
+      const size_t u = it->second;
+      unsigned int d = ix[u];
+      for (int e = 0; e < 3; ++e)
+        if (ix[u + e] != a && ix[u + e] != b) d = ix[u + e];
+      if (d == c || edgeTri.count((static_cast<std::uint64_t>(c) << 32) | d) || edgeTri.count((static_cast<std::uint64_t>(d) << 32) | c))
+        continue;
+      float nu[3], n1[3], n2[3];
+      crossLength2(p(ix[u]), p(ix[u + 1]), p(ix[u + 2]), nu);
+      if (crossLength2(p(a), p(d), p(c), n1) == 0.0f || crossLength2(p(d), p(b), p(c), n2) == 0.0f) continue;
+      if (n1[0] * nu[0] + n1[1] * nu[1] + n1[2] * nu[2] <= 0.0f || n2[0] * nu[0] + n2[1] * nu[1] + n2[2] * nu[2] <= 0.0f) continue;
+      ix[t] = a, ix[t + 1] = d, ix[t + 2] = c;
+      ix[u] = d, ix[u + 1] = b, ix[u + 2] = c;
+      touched[t / 3] = touched[u / 3] = true;
+    }
+    if (!any) return;
+  }
+}
+
+// A piece of the mesh simplified alone, its border locked; kept only when it is still a manifold
+// patch with the same border (each inner edge used once each way, no degenerate triangle).
+bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::vector<std::array<std::uint32_t, 3>>& tris,
+                   double maxError) {
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
+  std::vector<std::uint32_t> global;
+  std::vector<float> pos;
+  std::vector<unsigned int> idx;
+  idx.reserve(tris.size() * 3);
+  for (const auto& t : tris)
+    for (std::uint32_t v : t) {
+      auto [it, fresh] = local.try_emplace(v, static_cast<std::uint32_t>(global.size()));
+      if (fresh) {
+        global.push_back(v);
+        pos.insert(pos.end(), allVertices[v].begin(), allVertices[v].end());
+      }
+      idx.push_back(it->second);
+    }
+  float lo[3] = {pos[0], pos[1], pos[2]}, hi[3] = {pos[0], pos[1], pos[2]};
+  for (size_t v = 0; v < global.size(); ++v)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], pos[3 * v + a]);
+      hi[a] = std::max(hi[a], pos[3 * v + a]);
+    }
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (extent <= 0.0) return false;
+  auto edgesOf = [](const unsigned int* ix, size_t n, std::unordered_map<std::uint64_t, int>& directed) {
+    for (size_t t = 0; t < n; t += 3)
+      for (int e = 0; e < 3; ++e) ++directed[(static_cast<std::uint64_t>(ix[t + e]) << 32) | ix[t + (e + 1) % 3]];
+  };
+  auto border = [](const std::unordered_map<std::uint64_t, int>& directed) {
+    std::vector<std::uint64_t> b;
+    for (const auto& [key, count] : directed)
+      if (!directed.count((key << 32) | (key >> 32))) b.push_back(key);
+    std::sort(b.begin(), b.end());
+    return b;
+  };
+  std::unordered_map<std::uint64_t, int> before;
+  edgesOf(idx.data(), idx.size(), before);
+  const auto originalBorder = border(before);
+  std::vector<unsigned int> out(idx.size());
+  for (double error : {maxError, 0.25 * maxError}) {
+    const size_t n = meshopt_simplify(out.data(), idx.data(), idx.size(), pos.data(), global.size(), sizeof(float) * 3, 0,
+                                      static_cast<float>(error / extent), meshopt_SimplifyLockBorder, nullptr);
+    if (n == idx.size()) return false;  // nothing to gain
+    mendFlatTriangles(out, n, pos);
+    bool ok = true;
+    for (size_t t = 0; t < n && ok; t += 3) {
+      const float* a = &pos[3 * out[t]];
+      const float* b = &pos[3 * out[t + 1]];
+      const float* c = &pos[3 * out[t + 2]];
+      const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+      const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+      const float nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+      ok = out[t] != out[t + 1] && out[t + 1] != out[t + 2] && out[t] != out[t + 2] && (nx != 0.0f || ny != 0.0f || nz != 0.0f);
+    }
+    if (!ok) continue;
+    std::unordered_map<std::uint64_t, int> after;
+    edgesOf(out.data(), n, after);
+    for (const auto& [key, count] : after) {
+      ok = ok && count == 1;
+    }
+    if (!ok || border(after) != originalBorder) continue;
+    tris.resize(n / 3);
+    for (size_t t = 0; t < n / 3; ++t) tris[t] = {global[out[3 * t]], global[out[3 * t + 1]], global[out[3 * t + 2]]};
+    return true;
+  }
+  return false;
+}
+
+// Decimates tile by tile (squares in the plate's plane, each triangle in the tile of its
+// centroid), in parallel. In each tile the triangles touching a vertex that another tile uses, or
+// that an earlier round settled, stay as they are (a ring along the tile's edge); the rest is
+// simplified with its border locked, so no new edge ends at a shared vertex and tiles cannot
+// disagree. A tile whose result fails the patch check, and the rings, go round again in tiles half
+// the size. Returns the number of tiles that failed in the last round.
+size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& pool) {
+  std::vector<std::array<std::uint32_t, 3>> todo = std::move(mesh.triangles), done;
+  std::vector<std::uint8_t> settled(mesh.vertices.size(), 0);
+  size_t failed = 0;
+  for (int round = 0; round < 4 && !todo.empty(); ++round, tile *= 0.5) {
+    float lo[2] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+    float hi[2] = {-lo[0], -lo[1]};
+    for (const auto& t : todo)
+      for (std::uint32_t v : t)
+        for (int a = 0; a < 2; ++a) {
+          lo[a] = std::min(lo[a], mesh.vertices[v][a]);
+          hi[a] = std::max(hi[a], mesh.vertices[v][a]);
+        }
+    const int tx = std::max(1, static_cast<int>(std::ceil((hi[0] - lo[0]) / tile)));
+    const int ty = std::max(1, static_cast<int>(std::ceil((hi[1] - lo[1]) / tile)));
+    std::vector<std::vector<std::array<std::uint32_t, 3>>> tiles(static_cast<size_t>(tx) * ty);
+    for (const auto& t : todo) {
+      const float cx = (mesh.vertices[t[0]][0] + mesh.vertices[t[1]][0] + mesh.vertices[t[2]][0]) / 3.0f;
+      const float cy = (mesh.vertices[t[0]][1] + mesh.vertices[t[1]][1] + mesh.vertices[t[2]][1]) / 3.0f;
+      const int i = std::clamp(static_cast<int>((cx - lo[0]) / tile), 0, tx - 1);
+      const int j = std::clamp(static_cast<int>((cy - lo[1]) / tile), 0, ty - 1);
+      tiles[static_cast<size_t>(j) * tx + i].push_back(t);
+    }
+    todo.clear();
+    std::vector<std::uint32_t> owner(mesh.vertices.size(), UINT32_MAX);
+    std::vector<std::uint8_t> shared = settled;
+    for (size_t k = 0; k < tiles.size(); ++k)
+      for (const auto& t : tiles[k])
+        for (std::uint32_t v : t) {
+          if (owner[v] == UINT32_MAX) owner[v] = static_cast<std::uint32_t>(k);
+          else if (owner[v] != k) shared[v] = 1;
+        }
+    for (auto& tris : tiles) {
+      size_t n = 0;
+      for (const auto& t : tris) {
+        if (shared[t[0]] || shared[t[1]] || shared[t[2]]) todo.push_back(t);  // the ring: next round
+        else tris[n++] = t;
+      }
+      tris.resize(n);
+    }
+    std::vector<std::uint8_t> ok(tiles.size(), 0);
+    pool.parallelFor2D(Rect{0, 0, tx, ty}, 1, [&](const Rect& r) {
+      for (int j = r.y; j < r.y + r.h; ++j)
+        for (int i = r.x; i < r.x + r.w; ++i) {
+          const size_t k = static_cast<size_t>(j) * tx + i;
+          if (!tiles[k].empty()) ok[k] = simplifyPatch(mesh.vertices, tiles[k], maxError);
+        }
+    });
+    failed = 0;
+    for (size_t k = 0; k < tiles.size(); ++k) {
+      if (tiles[k].empty()) continue;
+      if (ok[k]) {
+        for (const auto& t : tiles[k]) {
+          done.push_back(t);
+          for (std::uint32_t v : t) settled[v] = 1;
+        }
+      } else {
+        ++failed;
+        todo.insert(todo.end(), tiles[k].begin(), tiles[k].end());
+      }
+    }
+  }
+  mesh.triangles = std::move(done);
+  mesh.triangles.insert(mesh.triangles.end(), todo.begin(), todo.end());
+  compact(mesh);
+  return failed;
+}
+
+// |f| / |grad f| at a point: the first-order distance to the surface.
+double distanceAt(const Model& model, const OpGrid& grid, double x, double y, double z, std::vector<std::uint32_t>& scratch) {
+  const auto cand = grid.at(x, y, scratch);
+  const Grad g = model.evaluate(P3<Grad>{{x, 1, 0, 0}, {y, 0, 1, 0}, {z, 0, 0, 1}}, cand);
+  const double len = std::sqrt(g.dx * g.dx + g.dy * g.dy + g.dz * g.dz);
+  return len > 0.0 ? std::abs(g.v) / len : 0.0;
+}
+
+}  // namespace
+
+double autoMeshCell(const Model& model) {
+  double finest = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < model.activeCount(); ++i)
+    finest = std::min(finest, model.operations()[i].op().characteristicLength());
+  // Finer than 0.1 mm is finer than a printer or a mill works (unless the sheet is thinner).
+  const double sheet = 0.8 * model.workpiece().halfThickness();
+  double h = std::min({std::max(0.5 * finest, 0.1), sheet, 1.0});
+  const Box3 b = model.bounds();
+  const double area = std::max(0.0, b.x1 - b.x0) * std::max(0.0, b.y1 - b.y0);
+  h = std::max(h, std::sqrt(area / 2.5e7));  // at most 25 million columns
+  return std::max(h, 0.005);
+}
+
+Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, MeshStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  MeshStats st;
+  const double h = options.cell > 0.0 ? options.cell : autoMeshCell(model);
+  st.cell = h;
+  const Box3 b = model.bounds();
+  Grid g;
+  g.h = h;
+  g.ox = b.x0 - h;
+  g.oy = b.y0 - h;
+  g.oz = b.z0 - h;
+  const auto cells = [&](double lo, double hi) { return static_cast<double>(std::ceil((hi - lo) / h)) + 2.0; };
+  const double cx = cells(b.x0, b.x1), cy = cells(b.y0, b.y1), cz = cells(b.z0, b.z1);
+  if (!(cx * cy * cz <= options.maxCells) || cx >= (1 << 20) || cy >= (1 << 20) || cz >= (1 << 18))
+    return fail("a mesh cell of " + std::to_string(h) + " mm is too fine for a piece of " + std::to_string(b.x1 - b.x0) +
+                " x " + std::to_string(b.y1 - b.y0) + " x " + std::to_string(b.z1 - b.z0) + " mm");
+  g.nx = static_cast<int>(cx);
+  g.ny = static_cast<int>(cy);
+  g.nz = static_cast<int>(cz);
+  g.bx = (g.nx + kBlock - 1) / kBlock;
+  g.by = (g.ny + kBlock - 1) / kBlock;
+  g.bz = (g.nz + kBlock - 1) / kBlock;
+
+  OpGrid opGrid;
+  opGrid.sync(model);
+  ThreadPool pool(options.threads);
+  const long blocks = static_cast<long>(g.bx) * g.by * g.bz;
+  std::vector<BlockOut> outs(static_cast<size_t>(blocks));
+  std::atomic<long> done{0}, evals{0};
+  std::mutex progressMutex;
+  int lastPercent = -1;
+  auto report = [&](double fraction) {
+    if (!options.progress) return;
+    std::lock_guard<std::mutex> lock(progressMutex);
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (percent == lastPercent) return;
+    lastPercent = percent;
+    options.progress(fraction);
+  };
+  report(0.0);
+  // One tile per block column (x, y); the column's blocks run bottom to top.
+  pool.parallelFor2D(Rect{0, 0, g.bx, g.by}, 1, [&](const Rect& r) {
+    std::vector<std::uint32_t> scratch;
+    for (int bj = r.y; bj < r.y + r.h; ++bj)
+      for (int bi = r.x; bi < r.x + r.w; ++bi) {
+        const Box2 xy{g.ox + bi * kBlock * h, g.oy + bj * kBlock * h, g.ox + std::min((bi + 1) * kBlock, g.nx) * h,
+                      g.oy + std::min((bj + 1) * kBlock, g.ny) * h};
+        const auto found = opGrid.in(xy, scratch);
+        const std::vector<std::uint32_t> cand(found.begin(), found.end());
+        long n = 0;
+        for (int bk = 0; bk < g.bz; ++bk) {
+          BlockMesher mesher(model, g, cand, bi, bj, bk, n);
+          mesher.run(outs[(static_cast<size_t>(bk) * g.by + bj) * g.bx + bi]);
+        }
+        evals += n;
+        report(0.8 * static_cast<double>(done += g.bz) / static_cast<double>(blocks));
+      }
+  });
+
+  // Blocks share the vertices of their common faces: merge by edge key, in block order.
+  TriangleMesh mesh;
+  {
+    size_t nv = 0, nt = 0;
+    for (const auto& o : outs) {
+      nv += o.keys.size();
+      nt += o.tris.size();
+    }
+    std::unordered_map<std::uint64_t, std::uint32_t> global;
+    global.reserve(nv);
+    mesh.vertices.reserve(nv);
+    mesh.triangles.reserve(nt);
+    std::vector<std::uint32_t> remap;
+    for (auto& o : outs) {
+      remap.resize(o.keys.size());
+      for (size_t v = 0; v < o.keys.size(); ++v) {
+        auto [it, fresh] = global.try_emplace(o.keys[v], static_cast<std::uint32_t>(mesh.vertices.size()));
+        if (fresh)
+          mesh.vertices.push_back({static_cast<float>(o.pos[v][0]), static_cast<float>(o.pos[v][1]), static_cast<float>(o.pos[v][2])});
+        remap[v] = it->second;
+      }
+      for (const auto& t : o.tris) mesh.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
+      o = BlockOut{};
+    }
+  }
+  weldFloats(mesh);
+  st.fineTriangles = mesh.triangles.size();
+  if (mesh.triangles.empty()) return fail("the model has no surface inside its bounds (nothing to mesh)");
+  report(0.85);
+
+  if (options.maxError > 0.0) {
+    TriangleMesh fine = mesh;
+    st.fineTiles = decimate(mesh, options.maxError, 48.0 * h, pool);
+    const std::string problem = mesh.triangles.empty() ? "empty" : checkClosedManifold(mesh);
+    if (!problem.empty()) {
+      mesh = std::move(fine);  // keep the fine mesh rather than a broken one
+    } else {
+      st.decimated = true;
+    }
+  }
+  report(0.9);
+
+  // Measure: the vertices' and a sample of the faces' distances to the model's surface.
+  {
+    const size_t nv = mesh.vertices.size();
+    const size_t stride = std::max<size_t>(1, mesh.triangles.size() / 200000);
+    const size_t nf = (mesh.triangles.size() + stride - 1) / stride;
+    std::vector<double> dv(nv), df(nf);
+    const int chunks = 256;
+    pool.parallelFor2D(Rect{0, 0, chunks, 1}, 1, [&](const Rect& r) {
+      std::vector<std::uint32_t> scratch;
+      for (int c = r.x; c < r.x + r.w; ++c) {
+        for (size_t v = nv * c / chunks; v < nv * (c + 1) / chunks; ++v) {
+          const auto& p = mesh.vertices[v];
+          dv[v] = distanceAt(model, opGrid, p[0], p[1], p[2], scratch);
+        }
+        for (size_t f = nf * c / chunks; f < nf * (c + 1) / chunks; ++f) {
+          const auto& t = mesh.triangles[f * stride];
+          double q[3];
+          for (int a = 0; a < 3; ++a)
+            q[a] = (double(mesh.vertices[t[0]][a]) + mesh.vertices[t[1]][a] + mesh.vertices[t[2]][a]) / 3.0;
+          df[f] = distanceAt(model, opGrid, q[0], q[1], q[2], scratch);
+        }
+      }
+    });
+    double sum = 0;
+    for (double d : dv) {
+      st.vertexMax = std::max(st.vertexMax, d);
+      sum += d;
+    }
+    st.vertexMean = nv ? sum / nv : 0.0;
+    for (double d : df) st.faceMax = std::max(st.faceMax, d);
+  }
+  st.triangles = mesh.triangles.size();
+  st.vertices = mesh.vertices.size();
+  st.volume = meshVolume(mesh);
+  st.area = meshArea(mesh);
+  st.evaluations = evals.load();
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report(1.0);
+  if (stats) *stats = st;
+  return mesh;
+}
+
+std::string checkClosedManifold(const TriangleMesh& mesh) {
+  std::unordered_map<std::uint64_t, int> directed;
+  directed.reserve(mesh.triangles.size() * 3);
+  size_t degenerate = 0;
+  for (const auto& t : mesh.triangles) {
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      ++degenerate;
+      continue;
+    }
+    const auto& a = mesh.vertices[t[0]];
+    const auto& b = mesh.vertices[t[1]];
+    const auto& c = mesh.vertices[t[2]];
+    const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    const float nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    if (nx == 0.0f && ny == 0.0f && nz == 0.0f) ++degenerate;
+    for (int e = 0; e < 3; ++e) ++directed[(static_cast<std::uint64_t>(t[e]) << 32) | t[(e + 1) % 3]];
+  }
+  size_t open = 0, repeated = 0;
+  for (const auto& [key, count] : directed) {
+    if (count > 1) ++repeated;
+    const std::uint64_t reverse = (key << 32) | (key >> 32);
+    auto it = directed.find(reverse);
+    if (it == directed.end()) ++open;
+  }
+  if (degenerate == 0 && open == 0 && repeated == 0) return {};
+  return std::to_string(open) + " open edges, " + std::to_string(repeated) + " edges used twice the same way, " +
+         std::to_string(degenerate) + " degenerate triangles";
+}
+
+double meshVolume(const TriangleMesh& mesh) {
+  double v = 0.0;
+  for (const auto& t : mesh.triangles) {
+    const auto& a = mesh.vertices[t[0]];
+    const auto& b = mesh.vertices[t[1]];
+    const auto& c = mesh.vertices[t[2]];
+    v += (double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) - double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
+          double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0]));
+  }
+  return v / 6.0;
+}
+
+double meshArea(const TriangleMesh& mesh) {
+  double s = 0.0;
+  for (const auto& t : mesh.triangles) {
+    const auto& a = mesh.vertices[t[0]];
+    const auto& b = mesh.vertices[t[1]];
+    const auto& c = mesh.vertices[t[2]];
+    const double ux = double(b[0]) - a[0], uy = double(b[1]) - a[1], uz = double(b[2]) - a[2];
+    const double vx = double(c[0]) - a[0], vy = double(c[1]) - a[1], vz = double(c[2]) - a[2];
+    const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    s += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
+  }
+  return s;
+}
+
+}  // namespace emboss

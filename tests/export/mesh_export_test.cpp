@@ -1,0 +1,176 @@
+// The take-home exports: the mesh is closed, oriented and manifold, on the surface, and keeps the
+// sheet's volume; STL and 3MF carry it unchanged; the height map holds the front face.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "export/heightmap.h"
+#include "export/mesh.h"
+#include "export/stl.h"
+#include "export/threemf.h"
+#include "scene/scene.h"
+#include "test_support.h"
+
+namespace emboss {
+namespace {
+
+Model modelOf(const std::string& text) {
+  auto scene = parseScene(text, "test.json", ".");
+  EXPECT_TRUE(scene.ok()) << scene.error();
+  auto model = scene->makeModel();
+  EXPECT_TRUE(model.ok()) << model.error();
+  return std::move(*model);
+}
+
+// A plate 40 x 30 x 1 mm (sheet model) with a groove, a raised punch, a region and a press.
+const char* kPlate = R"({"deformation":"sheet","workpiece":{"type":"plate","w":20,"h":15,"d":0.5},
+  "operations":[
+   {"op":"trace","side":"front","a":0.6,"points":[[-12,-8],[-4,4],[8,6],[12,-4]]},
+   {"op":"punch","side":"back","a":3,"p":0.5,"q":1.2,"at":[0,0,0.5]},
+   {"op":"region","side":"back","contour":[[-14,-12],[-6,-12],[-6,-6],[-10,-3],[-14,-6]],"height":0.8,"falloff":1.2},
+   {"op":"press","side":"back","a":0.8,"p":0.1,"q":1,"points":[[-12,9],[10,10]]}]})";
+
+TEST(MeshExport, SheetIsClosedManifoldOnTheSurfaceAndKeepsItsVolume) {
+  const Model model = modelOf(kPlate);
+  MeshOptions o;
+  o.threads = 2;
+  MeshStats st;
+  auto mesh = meshModel(model, o, &st);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  EXPECT_EQ(checkClosedManifold(*mesh), "");
+  // The sheet model moves the sheet along z: its volume stays 40 x 30 x 1 mm^3.
+  EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
+  EXPECT_GT(st.volume, 0.0) << "the triangles face inward";
+  EXPECT_LT(st.vertexMax, 0.1 * st.cell) << "vertices lie on the surface";
+  EXPECT_LT(st.faceMax, 0.5 * st.cell);
+  EXPECT_TRUE(st.decimated);
+  EXPECT_LT(st.triangles, st.fineTriangles * 6 / 10) << "flat parts are decimated";
+  EXPECT_EQ(st.triangles, mesh->triangles.size());
+  // Raised by the punch: the front face above the centre is higher than at rest (d = 0.5).
+  float top = -1e9f;
+  for (const auto& v : mesh->vertices)
+    if (std::abs(v[0]) < 0.5f && std::abs(v[1]) < 0.5f) top = std::max(top, v[2]);
+  EXPECT_GT(top, 0.5f + 1.0f);
+}
+
+TEST(MeshExport, AHoleThroughTheSheetStaysClosed) {
+  const Model model = modelOf(R"({"deformation":"sheet","workpiece":{"type":"plate","w":10,"h":10,"d":0.5},
+    "operations":[{"op":"punch","side":"back","a":2,"p":0.4,"q":1,"at":[-4,0,0.5]},
+                  {"op":"subtract","tool":{"type":"cylinder","center":[3,0,-3],"end":[3,0,3],"r":2}}]})");
+  MeshOptions o;
+  o.cell = 0.2;
+  MeshStats st;
+  auto mesh = meshModel(model, o, &st);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  EXPECT_EQ(checkClosedManifold(*mesh), "");
+  // 20 x 20 x 1 less the hole (radius 2 through 1 mm).
+  EXPECT_NEAR(st.volume, 400.0 - M_PI * 4.0, 2.0);
+}
+
+TEST(MeshExport, WithoutDecimationEveryCellIsMeshed) {
+  const Model model = modelOf(R"({"workpiece":{"type":"disc","r":8,"d":0.4},"operations":[]})");
+  MeshOptions o;
+  o.cell = 0.25;
+  o.maxError = 0.0;
+  MeshStats st;
+  auto mesh = meshModel(model, o, &st);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  EXPECT_EQ(checkClosedManifold(*mesh), "");
+  EXPECT_FALSE(st.decimated);
+  EXPECT_EQ(st.triangles, st.fineTriangles);
+  EXPECT_NEAR(st.volume, M_PI * 64.0 * 0.8, M_PI * 64.0 * 0.8 * 0.01);
+}
+
+TEST(MeshExport, CheckFindsOpenAndFlippedMeshes) {
+  TriangleMesh tet;
+  tet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  EXPECT_EQ(checkClosedManifold(tet), "");
+  EXPECT_NEAR(meshVolume(tet), 1.0 / 6.0, 1e-9);
+  TriangleMesh open = tet;
+  open.triangles.pop_back();
+  EXPECT_NE(checkClosedManifold(open), "");
+  TriangleMesh flipped = tet;
+  std::swap(flipped.triangles[3][0], flipped.triangles[3][1]);
+  EXPECT_NE(checkClosedManifold(flipped), "");
+  TriangleMesh flat = tet;
+  flat.vertices[3] = {0.5f, 0.5f, 0.0f};  // (1, 2, 3) collinear: zero area
+  EXPECT_NE(checkClosedManifold(flat), "");
+}
+
+TEST(MeshExport, StlHoldsTheMeshLittleEndianWithUnitNormals) {
+  TriangleMesh tet;
+  tet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const std::string bytes = stlBytes(tet, "solid piece");
+  ASSERT_EQ(bytes.size(), 84u + 4 * 50);
+  EXPECT_NE(bytes.rfind("solid", 0), 0u) << "a binary STL must not start with 'solid'";
+  std::uint32_t n;
+  std::memcpy(&n, bytes.data() + 80, 4);
+  EXPECT_EQ(n, 4u);
+  float rec[12];
+  std::memcpy(rec, bytes.data() + 84, sizeof rec);
+  EXPECT_FLOAT_EQ(rec[2], -1.0f);  // (0, 2, 1) faces -z
+  EXPECT_FLOAT_EQ(rec[6], 0.0f);
+  EXPECT_FLOAT_EQ(rec[7], 1.0f);  // second vertex (0, 1, 0)
+}
+
+TEST(MeshExport, ThreeMfRoundTripsThroughLib3mf) {
+  const Model model = modelOf(kPlate);
+  MeshOptions o;
+  o.cell = 0.4;
+  auto mesh = meshModel(model, o);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  const auto path = test::scratchDir("mesh_export") / "piece.3mf";
+  Status s = write3mf(*mesh, {"Rosette", "a test"}, path.string());
+  ASSERT_TRUE(s.ok()) << s.error();
+  auto back = read3mfSummary(path.string());
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_EQ(back->triangles, mesh->triangles.size());
+  EXPECT_EQ(back->vertices, mesh->vertices.size());
+  EXPECT_TRUE(back->manifoldAndOriented);
+  EXPECT_EQ(back->unit, "millimeter");
+  EXPECT_FALSE(write3mf(*mesh, {}, "/nonexistent-folder/x.3mf").ok());
+}
+
+TEST(HeightMapExport, HoldsTheFrontFace) {
+  const Model model = modelOf(R"({"workpiece":{"type":"disc","r":20,"d":0.5},
+    "operations":[{"op":"punch","side":"back","a":3,"p":0.5,"q":1,"at":[0,0,0.5]},
+                  {"op":"trace","side":"front","a":0.5,"points":[[-6,-16],[-6,6]]}]})");
+  HeightMapOptions o;
+  o.pixel = 0.2;
+  auto map = heightMap(model, o);
+  ASSERT_TRUE(map.ok()) << map.error();
+  auto zAt = [&](double x, double y) {
+    const int col = static_cast<int>(std::lround((x - map->x0) / map->pixel));
+    const int row = static_cast<int>(std::lround((map->y1 - y) / map->pixel));
+    const std::uint16_t v = map->values[static_cast<size_t>(row) * map->width + col];
+    return v == 0 ? std::nan("") : map->z(v);
+  };
+  // At rest the front face is at z = d; the punch raises the centre; the groove lowers x = -6.
+  EXPECT_NEAR(zAt(12.0, -12.0), 0.5, 0.001);
+  EXPECT_GT(zAt(0.0, 0.0), 0.5 + 1.0);
+  EXPECT_LT(zAt(-6.0, 0.0), 0.5 - 0.1);
+  EXPECT_TRUE(std::isnan(zAt(map->x0, map->y1))) << "the corner of the square is not metal";
+  // The value found is the top: the model is >= 0 just below it and < 0 just above.
+  // (at a pixel's centre; the values are quantised to 1/65535 of the range)
+  const double px = map->x0 + 60 * map->pixel, py = map->y1 - 90 * map->pixel;
+  const double z = zAt(px, py), q = (map->zMax - map->zMin) / 65534.0;
+  EXPECT_GE(model.evaluate(P3<double>{px, py, z - q}), 0.0);
+  EXPECT_LT(model.evaluate(P3<double>{px, py, z + q}), 0.0);
+
+  auto png = heightMapPng(*map, "Disc");
+  ASSERT_TRUE(png.ok()) << png.error();
+  ASSERT_GT(png->size(), 33u);
+  EXPECT_EQ(png->substr(1, 3), "PNG");
+  EXPECT_EQ(static_cast<unsigned char>((*png)[24]), 16) << "16 bits a sample";
+  EXPECT_EQ(static_cast<unsigned char>((*png)[25]), 0) << "greyscale";
+  EXPECT_NE(png->find("emboss:pixel_mm"), std::string::npos);
+  EXPECT_NE(png->find("emboss:z_min_mm"), std::string::npos);
+  EXPECT_NE(png->find("pHYs"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace emboss
