@@ -285,9 +285,24 @@ float crossLength2(const float* a, const float* b, const float* c, float n[3]) {
   return n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
 }
 
-// Simplifying a flat face leaves triangles whose corners are collinear (zero area: the collapse
-// checks see no flip in them). Each is mended by flipping its longest edge with the neighbour across
-// it, when that makes two proper triangles facing the neighbour's way and the new edge is new.
+// A sliver: |cross| <= kSliver * (longest edge)^2, i.e. its smallest angle under about 1e-4 rad.
+// Its normal is lost in float rounding (readers such as admesh then recompute it).
+constexpr float kSliver = 1e-4f;
+
+bool sliver(const float* a, const float* b, const float* c, float k = kSliver) {
+  float n[3];
+  const float c2 = crossLength2(a, b, c, n);
+  auto d2 = [](const float* u, const float* v) {
+    return (v[0] - u[0]) * (v[0] - u[0]) + (v[1] - u[1]) * (v[1] - u[1]) + (v[2] - u[2]) * (v[2] - u[2]);
+  };
+  const float l2 = std::max({d2(a, b), d2(b, c), d2(c, a)});
+  return c2 <= k * k * l2 * l2;
+}
+
+// Simplifying a flat face leaves triangles whose corners are (nearly) collinear: zero area or a
+// sliver, the collapse checks see no flip in them. Each is mended by flipping its longest edge with
+// the neighbour across it, when that makes two proper triangles facing the neighbour's way and the
+// new edge is new.
 void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos) {
   auto p = [&](unsigned int v) { return &pos[3 * v]; };
   for (int pass = 0; pass < 4; ++pass) {
@@ -297,8 +312,7 @@ void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vecto
     std::vector<bool> touched(n / 3, false);
     bool any = false;
     for (size_t t = 0; t < n; t += 3) {
-      float nt[3];
-      if (touched[t / 3] || crossLength2(p(ix[t]), p(ix[t + 1]), p(ix[t + 2]), nt) != 0.0f) continue;
+      if (touched[t / 3] || !sliver(p(ix[t]), p(ix[t + 1]), p(ix[t + 2]))) continue;
       any = true;
       // The longest edge (a, b); c lies on it.
       int best = 0;
@@ -323,7 +337,9 @@ void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vecto
         continue;
       float nu[3], n1[3], n2[3];
       crossLength2(p(ix[u]), p(ix[u + 1]), p(ix[u + 2]), nu);
-      if (crossLength2(p(a), p(d), p(c), n1) == 0.0f || crossLength2(p(d), p(b), p(c), n2) == 0.0f) continue;
+      if (sliver(p(a), p(d), p(c)) || sliver(p(d), p(b), p(c))) continue;
+      crossLength2(p(a), p(d), p(c), n1);
+      crossLength2(p(d), p(b), p(c), n2);
       if (n1[0] * nu[0] + n1[1] * nu[1] + n1[2] * nu[2] <= 0.0f || n2[0] * nu[0] + n2[1] * nu[1] + n2[2] * nu[2] <= 0.0f) continue;
       ix[t] = a, ix[t + 1] = d, ix[t + 2] = c;
       ix[u] = d, ix[u + 1] = b, ix[u + 2] = c;
@@ -387,7 +403,8 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
       const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
       const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
       const float nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-      ok = out[t] != out[t + 1] && out[t + 1] != out[t + 2] && out[t] != out[t + 2] && (nx != 0.0f || ny != 0.0f || nz != 0.0f);
+      ok = out[t] != out[t + 1] && out[t + 1] != out[t + 2] && out[t] != out[t + 2] && (nx != 0.0f || ny != 0.0f || nz != 0.0f) &&
+           !sliver(a, b, c, 0.1f * kSliver);  // a tile is not refused for what the last pass mends
     }
     if (!ok) continue;
     std::unordered_map<std::uint64_t, int> after;
@@ -598,6 +615,17 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     } else {
       st.decimated = true;
     }
+  }
+  // Slivers left anywhere (the fine mesh has a few too) are mended the same way, over the whole mesh.
+  {
+    std::vector<unsigned int> ix(mesh.triangles.size() * 3);
+    std::memcpy(ix.data(), mesh.triangles.data(), ix.size() * sizeof(unsigned int));
+    std::vector<float> pos(mesh.vertices.size() * 3);
+    std::memcpy(pos.data(), mesh.vertices.data(), pos.size() * sizeof(float));
+    mendFlatTriangles(ix, ix.size(), pos);
+    TriangleMesh mended = mesh;
+    std::memcpy(mended.triangles.data(), ix.data(), ix.size() * sizeof(unsigned int));
+    if (checkClosedManifold(mended).empty()) mesh = std::move(mended);
   }
   report(0.9);
 
