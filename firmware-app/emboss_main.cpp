@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "text_image.h"
 #include "version.h"
 
 int main(int argc, char** argv) {
@@ -13,6 +14,14 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Every subcommand's help");
   app.set_version_flag("--version", std::string("emboss ") + emboss::versionString());
   emboss::cli::Commands commands(app);
+  commands.setTextPainterFactory([]() -> std::unique_ptr<emboss::TextPainter> {
+    auto painter = emboss::AtlasTextPainter::create();
+    if (!painter) {
+      std::fprintf(stderr, "emboss: %s; the postcard gets no caption\n", painter.error().c_str());
+      return nullptr;
+    }
+    return std::move(*painter);
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -57,8 +57,9 @@ Commands::Commands(CLI::App& app) : app_(app) {
   exportCmd_ = app.add_subcommand("export", "Export a scene for another program");
   exportCmd_->add_option("scene", scene_, "Scene file (JSON)")->required();
   exportCmd_->add_option("--format", format_,
-                         "pov (POV-Ray 3.7 isosurface), stl (binary, mm), 3mf, heightmap (16-bit greyscale PNG of the front face)")
-      ->check(CLI::IsMember({"pov", "stl", "3mf", "heightmap"}))
+                         "pov (POV-Ray 3.7 isosurface), stl (binary, mm), 3mf, heightmap (16-bit greyscale PNG of the front face), "
+                         "postcard (PNG, the piece with its title and date)")
+      ->check(CLI::IsMember({"pov", "stl", "3mf", "heightmap", "postcard"}))
       ->capture_default_str();
   exportCmd_->add_option("-o,--output", out_, "Output file")->required();
   exportCmd_->add_option("--size", size_, "Picture size WxH the POV camera is set up for")->capture_default_str();
@@ -222,6 +223,9 @@ int Commands::exportScene() {
     o.resolution = resolution_;
     o.maxError = maxError_;
     o.threads = threads_;
+    std::unique_ptr<TextPainter> painter;
+    if (format_ == "postcard" && textFactory_) painter = textFactory_();
+    o.text = painter.get();
     std::string summary;
     if (Status s = writeTakeHome(*scene, *model, o, out_, &summary); !s) {
       std::fprintf(stderr, "emboss export: %s\n", s.error().c_str());

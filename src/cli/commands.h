@@ -1,8 +1,12 @@
 // The `emboss` subcommands, kept in the core so the tests can call them without a process.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "export/postcard.h"
 
 namespace CLI {
 class App;
@@ -16,6 +20,8 @@ class Commands {
  public:
   explicit Commands(CLI::App& app);
   int run();
+  // Where the postcard's caption painter comes from (the platform's FreeType; none: no caption).
+  void setTextPainterFactory(std::function<std::unique_ptr<TextPainter>()> factory) { textFactory_ = std::move(factory); }
 
  private:
   int eval();
@@ -43,6 +49,7 @@ class Commands {
   bool stats_ = false;
   bool incremental_ = false;
   bool quick_ = false;
+  std::function<std::unique_ptr<TextPainter>()> textFactory_;
 };
 
 }  // namespace emboss::cli

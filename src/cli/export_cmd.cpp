@@ -7,6 +7,7 @@
 #include <ctime>
 #include <filesystem>
 
+#include "app/session_store.h"
 #include "export/heightmap.h"
 #include "export/mesh.h"
 #include "export/stl.h"
@@ -72,6 +73,16 @@ Status writeTakeHome(const Scene& scene, const Model& model, const TakeHomeOptio
     if (Status s = writeFileAtomically(out, *png); !s) return s;
     std::snprintf(line, sizeof line, "height map %dx%d, %.4g mm a pixel, z %.4f to %.4f mm", map->width, map->height,
                   map->pixel, map->zMin, map->zMax);
+    if (summary) *summary = line;
+    return Ok{};
+  }
+  if (options.format == "postcard") {
+    PostcardOptions o;
+    o.threads = options.threads;
+    auto card = postcard(scene, model, o, options.text);
+    if (!card) return fail(card.error());
+    if (Status s = writePngAtomically(*card, out); !s) return s;
+    std::snprintf(line, sizeof line, "postcard %dx%d%s", card->width, card->height, options.text ? "" : " (no font: no caption)");
     if (summary) *summary = line;
     return Ok{};
   }

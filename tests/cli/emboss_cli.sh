@@ -60,5 +60,7 @@ check "export 3mf" 0 "$emboss" export "$tmp/s.json" --format 3mf -o "$tmp/x.3mf"
 [ "$(head -c 2 "$tmp/x.3mf")" = "PK" ] || { echo "FAIL 3mf is not a zip"; fail=1; }
 check "export heightmap" 0 "$emboss" export "$tmp/s.json" --format heightmap -o "$tmp/h.png" --resolution 0.2
 file "$tmp/h.png" | grep -q "16-bit grayscale" || { echo "FAIL heightmap: $(file "$tmp/h.png")"; fail=1; }
+check "export postcard" 0 "$emboss" export "$tmp/s.json" --format postcard -o "$tmp/card.png"
+file "$tmp/card.png" | grep -q "1800 x 1200" || { echo "FAIL postcard: $(file "$tmp/card.png")"; fail=1; }
 check "export stl unwritable" 1 "$emboss" export "$tmp/s.json" --format stl -o "$tmp/no/such/dir/x.stl"
 exit $fail
