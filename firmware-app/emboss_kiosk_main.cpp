@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "text_image.h"
 #include "app/attract_library.h"
 #include "app/kiosk_app.h"
 #include "app/kiosk_config.h"
@@ -295,6 +296,12 @@ int main(int argc, char** argv) {
     // Declared before the app: a still under way on the app's capture thread uses it until the app is gone.
     std::unique_ptr<CameraSource> cam;
     KioskApp app(config, std::move(pieces), *screen, logLine, clock, start);
+    app.setTextPainterFactory([]() -> std::unique_ptr<TextPainter> {
+      auto painter = AtlasTextPainter::create();
+      if (painter) return std::move(*painter);
+      logLine("export: " + painter.error() + "; the postcards get no caption");
+      return nullptr;
+    });
     app.setDeviceNote("Service manager", notifier->name());
 
     // ---- input: a recording, a tablet, the mouse; GPIO buttons, the keyboard

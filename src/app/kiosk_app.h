@@ -69,6 +69,8 @@ class KioskApp {
   void setDeviceNote(const std::string& key, const std::string& value);
   // The staff screen's diagnostics lines as last shown (staff mode only).
   const std::vector<std::string>& staffLines() const { return staff_.lines; }
+  // Where the staff export's postcards get their caption painter (the platform's FreeType).
+  void setTextPainterFactory(std::function<std::unique_ptr<TextPainter>()> factory) { textFactory_ = std::move(factory); }
   // The camera for capture drawing (null: none). A capture under way finishes first.
   void setCamera(CameraSource* camera);
 
@@ -217,6 +219,7 @@ class KioskApp {
   bool firstPresent_ = true;
   std::optional<std::string> lastSessionJson_;
   std::unique_ptr<SessionExport> export_;     // the export under way, null when none
+  std::function<std::unique_ptr<TextPainter>()> textFactory_;  // the postcards' caption painter
   bool exportForSocket_ = false;              // embossctl asked for it and waits for the answer
   bool exportProgressLines_ = false;          // ... and for progress lines
   std::vector<std::string> exportLines_;      // progress lines not yet sent to embossctl

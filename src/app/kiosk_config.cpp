@@ -119,6 +119,9 @@ KioskConfig parseLines(const std::string& text, const std::string& name, KioskCo
       c.sessionsDir = v;
     } else if (key == "export_dir") {
       c.exportDir = v;
+    } else if (key == "take_home") {
+      if (auto set = parseTakeHomeSet(v)) c.takeHome = *set;
+      else warn("take_home: " + set.error());
     } else if (key == "retention_days") {
       positive(key, v, c.retentionDays);
     } else if (key == "retention_mb") {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "devices/buttons.h"
+#include "export/take_home.h"
 
 namespace emboss {
 
@@ -24,6 +25,7 @@ struct KioskConfig {
   std::filesystem::path piecesDir;                                  // empty: searched (see docs/kiosk.md)
   std::filesystem::path sessionsDir;  // empty: $STATE_DIRECTORY/sessions, else ~/.local/state/emboss-kiosk/sessions
   std::filesystem::path exportDir = "/media/emboss-export";         // staff export target (a USB stick)
+  TakeHomeSet takeHome;  // take_home: files the staff export adds beside each session (default none)
   bool exportAnyDir = false;  // the staff menu may export to a folder on the kiosk's own disk (tests only)
   double retentionDays = 365;     // finished sessions older than this are deleted (oldest first)
   double retentionMb = 4096;      // ... and beyond this much space, oldest first (a year on a 16 GB card)

@@ -237,6 +237,8 @@ Status KioskApp::startExport(ExportRequest request) {
     if (benchShown_) request.currentPicture = composer_->frame();
   }
   request.stamp = fileStamp();
+  request.takeHome = config_.takeHome;
+  request.textFactory = textFactory_;
   const std::string dest = request.dest.string();
   auto started = SessionExport::start(sessions_->dir(), std::move(request));
   if (!started) return fail(started.error());
@@ -254,10 +256,11 @@ Status KioskApp::startExport(ExportRequest request) {
 
 void KioskApp::pollExport() {
   if (!export_) return;
-  const bool finished = export_->done();  // read first: the progress read after it is the last one
-  const SessionStore::ExportProgress p = export_->progress();
-  const StaffProgress sp{p.sessionsDone, p.sessions, p.bytes};
-  if (p.sessions != exportShown_.sessions || p.sessionsDone != exportShown_.sessionsDone || p.bytes != exportShown_.bytes) {
+  const bool finished = export_->done();  // read first: the updates taken after it are the last ones
+  for (const SessionStore::ExportProgress& p : export_->takeUpdates()) {
+    if (p.sessions == exportShown_.sessions && p.sessionsDone == exportShown_.sessionsDone && p.bytes == exportShown_.bytes)
+      continue;
+    const StaffProgress sp{p.sessionsDone, p.sessions, p.bytes};
     exportShown_ = p;
     staff_.message = "Exporting to " + export_->dest().string() + ": " + staffProgressText(sp);
     staff_.messageIsError = false;
@@ -269,8 +272,13 @@ void KioskApp::pollExport() {
   if (r) {
     staff_.message = "Exported " + std::to_string(r->files) + " files (" + std::to_string(r->bytes / 1024) + " KiB) to " +
                      r->folder.string();
+    if (!r->warnings.empty())
+      staff_.message += "; " + std::to_string(r->warnings.size()) + " take-home file(s) not made: " + r->warnings.front();
     staff_.messageIsError = false;
-    if (exportForSocket_) exportAnswer_ = answer({{"folder", r->folder.string()}, {"files", r->files}, {"bytes", r->bytes}});
+    if (exportForSocket_)
+      exportAnswer_ = answer({{"folder", r->folder.string()}, {"files", r->files}, {"bytes", r->bytes}, {"warnings", r->warnings}});
+    if (log_)
+      for (const auto& w : r->warnings) log_("<4>staff: take-home file not made: " + w);
   } else {
     staff_.message = r.error();
     staff_.messageIsError = true;

@@ -29,18 +29,37 @@ SessionStore::ExportProgress SessionExport::progress() const {
   return progress_;
 }
 
+std::vector<SessionStore::ExportProgress> SessionExport::takeUpdates() {
+  std::lock_guard lock(m_);
+  std::vector<SessionStore::ExportProgress> out;
+  out.swap(updates_);
+  return out;
+}
+
 void SessionExport::run() {
   // A store of its own over the same folder: exportAll only reads the saved files.
   const SessionStore store(sessionsDir_, {});
   std::optional<SessionStore::Extra> current;
   if (request_.currentJson)
     current = SessionStore::Extra{*request_.currentJson, request_.currentPicture ? &*request_.currentPicture : nullptr};
+  ExportTakeHome hook;
+  std::unique_ptr<TextPainter> painter;
+  if (request_.takeHome.any()) {
+    if (request_.takeHome.postcard && request_.textFactory) painter = request_.textFactory();
+    hook.allowance = request_.takeHome.allowance();
+    hook.make = [this, &painter](const fs::path& scene) -> Result<std::pair<size_t, std::uintmax_t>> {
+      auto w = writeTakeHomeFiles(scene, request_.takeHome, painter.get(), 1);
+      if (!w) return fail(w.error());
+      return std::make_pair(w->files, w->bytes);
+    };
+  }
   auto r = store.exportAll(request_.dest, sanitizeName(request_.stamp), current, {}, request_.sinceUnix,
                            [this](const SessionStore::ExportProgress& p) {
                              std::lock_guard lock(m_);
                              progress_ = p;
+                             updates_.push_back(p);
                            },
-                           &stop_);
+                           &stop_, hook);
   {
     std::lock_guard lock(m_);
     result_ = std::move(r);

@@ -4,13 +4,16 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "app/session_store.h"
+#include "export/take_home.h"
 #include "render/image.h"
 
 namespace emboss {
@@ -22,6 +25,8 @@ struct ExportRequest {
   std::string stamp;             // names the export's folder (sanitized here)
   std::optional<std::string> currentJson;  // the session in progress, if any
   std::optional<Image> currentPicture;     // ... and its picture as last shown
+  TakeHomeSet takeHome;                    // take-home files made beside each session
+  std::function<std::unique_ptr<TextPainter>()> textFactory;  // the postcard's caption (none: no words)
 };
 
 // Thread-safe: the main loop starts it and reads progress() and result(); the export's thread writes.
@@ -39,6 +44,9 @@ class SessionExport {
   void stop();
   const std::filesystem::path& dest() const { return request_.dest; }
   SessionStore::ExportProgress progress() const;
+  // Every progress report since the last call, in order (none is lost between two main-loop steps,
+  // however fast the copying goes).
+  std::vector<SessionStore::ExportProgress> takeUpdates();
   bool done() const { return done_.load(); }
   // Once done(): the summary, or why the export failed.
   const Result<SessionStore::ExportSummary>& result() const { return result_; }
@@ -51,6 +59,7 @@ class SessionExport {
   ExportRequest request_;
   mutable std::mutex m_;
   SessionStore::ExportProgress progress_;
+  std::vector<SessionStore::ExportProgress> updates_;
   Result<SessionStore::ExportSummary> result_ = fail("the export has not finished");
   std::atomic<bool> done_{false};
   std::atomic<bool> stop_{false};

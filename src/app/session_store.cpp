@@ -98,7 +98,7 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
                                                             const std::optional<Extra>& current,
                                                             const SpaceProbe& spaceIn, double sinceUnix,
                                                             const ExportProgressSink& progress,
-                                                            const std::atomic<bool>* stop) const {
+                                                            const std::atomic<bool>* stop, const ExportTakeHome& takeHome) const {
   std::error_code ec;
   if (!fs::is_directory(target, ec))
     return fail("export: '" + target.string() + "' is not a folder (is the USB stick in?)");
@@ -118,6 +118,7 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
     sessions.push_back(std::move(files));
   }
   need += 1 << 20;  // headroom for the file system's own records
+  if (takeHome.make) need += takeHome.allowance * (sessions.size() + (current ? 1 : 0));
   const SpaceProbe space = spaceIn ? spaceIn : [](const fs::path& p) -> std::optional<std::uintmax_t> {
     std::error_code e;
     const auto s = fs::space(p, e);
@@ -138,6 +139,16 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
   sum.folder = target / ("emboss-sessions-" + stamp);
   fs::create_directories(sum.folder, ec);
   if (ec) return fail("export: cannot create '" + sum.folder.string() + "': " + ec.message());
+  const auto makeTakeHome = [&](const fs::path& exportedScene) {
+    if (!takeHome.make) return;
+    auto made = takeHome.make(exportedScene);
+    if (!made) {
+      sum.warnings.push_back(made.error());
+      return;
+    }
+    sum.files += made->first;
+    sum.bytes += made->second;
+  };
   const auto stopped = [&]() -> Result<ExportSummary> {
     Status s = syncDirectory(sum.folder);
     if (s) s = syncDirectory(target);
@@ -158,6 +169,8 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
       ++sum.files;
       sum.bytes += bytes.size();
     }
+    if (stop && stop->load()) return stopped();
+    makeTakeHome(sum.folder / files.front().filename());
     ++done.sessionsDone;
     report();
   }
@@ -169,9 +182,13 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
     if (!s) return fail("export: " + s.error() + " (the " + std::to_string(sum.files) + " saved files were copied)");
     sum.files += current->picture ? 2 : 1;
     sum.bytes += current->json.size() + (current->picture ? fs::file_size(png, ec) : 0);
+    makeTakeHome(json);
     ++done.sessionsDone;
     report();
   }
+  // The take-home files are written through temporary files and renames; their names too.
+  if (takeHome.make)
+    if (Status s = syncDirectory(sum.folder); !s) return fail("export: " + s.error());
   // The export's folder itself is a new name in the stick's root: make that durable too.
   if (Status s = syncDirectory(target); !s) return fail("export: " + s.error());
   return sum;

@@ -17,6 +17,13 @@
 
 namespace emboss {
 
+// Makes a session's take-home files beside its exported scene file (export/take_home.h);
+// `allowance` is the room to keep free for one session's files.
+struct ExportTakeHome {
+  std::function<Result<std::pair<size_t, std::uintmax_t>>(const std::filesystem::path& exportedScene)> make;
+  std::uintmax_t allowance = 0;
+};
+
 class SessionStore {
  public:
   // Free bytes at a path (std::filesystem::space by default; tests pass their own).
@@ -50,6 +57,7 @@ class SessionStore {
     std::filesystem::path folder;
     size_t files = 0;
     std::uintmax_t bytes = 0;
+    std::vector<std::string> warnings;  // take-home files that could not be made (the sessions are copied)
   };
   // How far an export is: sessions (a scene file and its picture; the one in progress counts as one)
   // copied of all it copies, and the files and bytes written so far.
@@ -65,10 +73,13 @@ class SessionStore {
   // is fsynced before the export counts as done. `progress` (when given) hears of the start and of
   // every session copied, on the calling thread. Const and touching nothing but the files: another
   // thread may run it on a copy of the store. `stop` (when given and set) ends it between two
-  // files: what was copied is complete and durable, and the result says how far it got.
+  // files: what was copied is complete and durable, and the result says how far it got. With
+  // `takeHome`, each session's take-home files are made beside its copy; one that cannot be made
+  // is a warning in the summary, never a lost session.
   Result<ExportSummary> exportAll(const std::filesystem::path& target, const std::string& stamp,
                                   const std::optional<Extra>& current, const SpaceProbe& space = {}, double sinceUnix = 0,
-                                  const ExportProgressSink& progress = {}, const std::atomic<bool>* stop = nullptr) const;
+                                  const ExportProgressSink& progress = {}, const std::atomic<bool>* stop = nullptr,
+                                  const ExportTakeHome& takeHome = {}) const;
 
  private:
   struct Pending {

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "cli/export_cmd.h"
+#include "export/take_home.h"
 #include "export/pov.h"
 #include "render/renderer.h"
 #include "scene/scene.h"

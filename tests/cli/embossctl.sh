@@ -72,5 +72,19 @@ kill -TERM $pid; wait $pid; rc=$?
 [ -e "$sock" ] && bad "the socket was left behind"
 "$ctl" --socket "$sock" status 2>"$tmp/e2"; [ $? -eq 1 ] || bad "no kiosk: not exit 1"
 grep -q "is emboss-kiosk running" "$tmp/e2" || bad "no kiosk: the message does not say so"
-[ $fail -eq 0 ] && echo "ok   embossctl: status, sessions, export, reset, wipe, refusals"
+# take_home in the config: the export makes a postcard and a height map beside each session.
+mkdir -p "$tmp/s2" "$tmp/dest3"
+cp "$src/firmware-app/pieces/1-rosette.json" "$tmp/s2/session-20240101-130000.json"
+printf 'take_home = postcard, heightmap\n' >"$tmp/k2.conf"
+"$kiosk" --config "$tmp/k2.conf" --display=headless --size 160x100 --threads 1 --sessions-dir "$tmp/s2" \
+  --pieces "$src/firmware-app/pieces" --tablet=none --staff-socket "$tmp/s2.sock" --run-for 120 >"$tmp/out2" 2>"$tmp/err2" &
+pid=$!
+for _ in $(seq 100); do [ -S "$tmp/s2.sock" ] && break; sleep 0.1; done
+"$ctl" --socket "$tmp/s2.sock" export --allow-any-dir "$tmp/dest3" >"$tmp/x3" 2>&1 || { bad "take-home export failed"; cat "$tmp/x3"; }
+grep -q '^files: 3$' "$tmp/x3" || { bad "the take-home export did not write 3 files (the scene, its postcard, its height map)"; cat "$tmp/x3" "$tmp/err2"; }
+f3=$(sed -n 's/^folder: //p' "$tmp/x3")
+file "$f3"/session-20240101-130000.postcard.png 2>/dev/null | grep -q "1800 x 1200" || bad "no postcard beside the session"
+file "$f3"/session-20240101-130000.height.png 2>/dev/null | grep -q "16-bit grayscale" || bad "no height map beside the session"
+kill -TERM $pid; wait $pid
+[ $fail -eq 0 ] && echo "ok   embossctl: status, sessions, export, reset, wipe, refusals, take-home files"
 exit $fail

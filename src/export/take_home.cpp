@@ -1,10 +1,11 @@
-// `emboss export --format stl|3mf|heightmap`: the take-home exports (the mesh and the height map).
-#include "cli/export_cmd.h"
+// The take-home files: the mesh (STL, 3MF), the height map and the postcard, from a scene.
+#include "export/take_home.h"
 
 #include <unistd.h>
 
 #include <cstdio>
 #include <ctime>
+#include <sstream>
 #include <filesystem>
 
 #include "app/session_store.h"
@@ -15,7 +16,7 @@
 #include "scene/scene.h"
 #include "util/durable_file.h"
 
-namespace emboss::cli {
+namespace emboss {
 
 namespace {
 
@@ -120,4 +121,74 @@ Status writeTakeHome(const Scene& scene, const Model& model, const TakeHomeOptio
   return Ok{};
 }
 
-}  // namespace emboss::cli
+std::uintmax_t TakeHomeSet::allowance() const {
+  return (postcard ? (4u << 20) : 0) + (heightmap ? (4u << 20) : 0) + (stl ? (150u << 20) : 0) + (threemf ? (60u << 20) : 0);
+}
+
+Result<TakeHomeSet> parseTakeHomeSet(const std::string& list) {
+  TakeHomeSet set;
+  std::string item;
+  std::stringstream ss(list);
+  bool none = false;
+  while (std::getline(ss, item, ',')) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (item == "postcard") set.postcard = true;
+    else if (item == "heightmap") set.heightmap = true;
+    else if (item == "stl") set.stl = true;
+    else if (item == "3mf") set.threemf = true;
+    else if (item == "none") none = true;
+    else return fail("'" + item + "' is not a take-home file (postcard, heightmap, stl, 3mf or none)");
+  }
+  if (none && set.any()) return fail("'none' cannot be listed with files");
+  return set;
+}
+
+std::string takeHomeSetText(const TakeHomeSet& set) {
+  std::string s;
+  auto add = [&](bool on, const char* name) {
+    if (on) s += (s.empty() ? "" : ",") + std::string(name);
+  };
+  add(set.postcard, "postcard");
+  add(set.heightmap, "heightmap");
+  add(set.stl, "stl");
+  add(set.threemf, "3mf");
+  return s.empty() ? "none" : s;
+}
+
+Result<TakeHomeWritten> writeTakeHomeFiles(const std::filesystem::path& sceneFile, const TakeHomeSet& set, TextPainter* text,
+                                           int threads) {
+  TakeHomeWritten w;
+  if (!set.any()) return w;
+  auto scene = loadScene(sceneFile);
+  if (!scene) return fail(scene.error());
+  auto model = scene->makeModel();
+  if (!model) return fail(sceneFile.string() + ": " + model.error());
+  const std::string stem = (sceneFile.parent_path() / sceneFile.stem()).string();
+  struct Item {
+    bool on;
+    const char* format;
+    std::string path;
+    double resolution;
+  };
+  const Item items[] = {{set.postcard, "postcard", stem + ".postcard.png", 0.0},
+                        {set.heightmap, "heightmap", stem + ".height.png", 0.2},
+                        {set.stl, "stl", stem + ".stl", 0.0},
+                        {set.threemf, "3mf", stem + ".3mf", 0.0}};
+  for (const Item& it : items) {
+    if (!it.on) continue;
+    TakeHomeOptions o;
+    o.format = it.format;
+    o.resolution = it.resolution;
+    o.threads = threads;
+    o.progressBar = false;
+    o.text = text;
+    if (Status s = writeTakeHome(*scene, *model, o, it.path); !s) return fail(it.path + ": " + s.error());
+    std::error_code ec;
+    ++w.files;
+    w.bytes += std::filesystem::file_size(it.path, ec);
+  }
+  return w;
+}
+
+}  // namespace emboss
