@@ -243,7 +243,7 @@ std::string validate(const Operation& op) {
 }
 
 PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
-  const double L = op_.characteristicLength();
+  const double L = length_ = op_.characteristicLength();
   const double reach = kSupportSpan * L;
   switch (op_.kind) {
     case OpKind::Trace: {
@@ -319,7 +319,7 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
 template <class T>
 T PreparedOp::offset(const P3<T>& p, Deformation model) const {
   const Operation& o = op_;
-  const double L = o.characteristicLength();
+  const double L = length_;
   switch (o.kind) {
     case OpKind::Trace: {
       T t2 = polylineDistance2(p.x, p.y, o.points, false);

@@ -99,6 +99,8 @@ class PreparedOp {
   T combine(const T& f, const P3<T>& p) const;
   // Press only: where the program placed the punches along the path.
   const std::vector<Vec3>& pressPoints() const { return pressPoints_; }
+  // op().characteristicLength(), worked out once (evaluation needs it at every point).
+  double length() const { return length_; }
   // An upper bound of |grad offset| in the plane (mm/mm), for Lipschitz bounds.
   double maxSlope() const { return maxSlope_; }
   // A trace joint made ready: the joint point, dir / (|dir| r) (the weight's argument is
@@ -117,6 +119,7 @@ class PreparedOp {
   Box2 support_;
   std::vector<Vec3> pressPoints_;
   double maxSlope_ = 0.0;
+  double length_ = 0.0;
 };
 
 // The physical ranges of an operation's numbers, checked by validate(). Lengths in mm: a sheet and
