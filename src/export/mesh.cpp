@@ -305,17 +305,20 @@ bool sliver(const float* a, const float* b, const float* c, float k = kSliver) {
 // new edge is new.
 void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos) {
   auto p = [&](unsigned int v) { return &pos[3 * v]; };
+  auto key = [](unsigned int u, unsigned int v) { return (static_cast<std::uint64_t>(u) << 32) | v; };
+  // Slivers are few: each pass finds them, then looks up only the edges it needs in one scan of the
+  // mesh (a map of every edge would cost more than the rest of the decimation).
   for (int pass = 0; pass < 4; ++pass) {
-    std::unordered_map<std::uint64_t, size_t> edgeTri;
-    for (size_t t = 0; t < n; t += 3)
-      for (int e = 0; e < 3; ++e) edgeTri[(static_cast<std::uint64_t>(ix[t + e]) << 32) | ix[t + (e + 1) % 3]] = t;
-    std::vector<bool> touched(n / 3, false);
-    bool any = false;
+    struct Candidate {
+      size_t t;
+      unsigned int a, b, c;
+      size_t u = SIZE_MAX;
+      unsigned int d = 0;
+    };
+    std::vector<Candidate> cands;
     for (size_t t = 0; t < n; t += 3) {
-      if (touched[t / 3] || !sliver(p(ix[t]), p(ix[t + 1]), p(ix[t + 2]))) continue;
-      any = true;
-      // The longest edge (a, b); c lies on it.
-      int best = 0;
+      if (!sliver(p(ix[t]), p(ix[t + 1]), p(ix[t + 2]))) continue;
+      int best = 0;  // the longest edge (a, b); c lies (nearly) on it
       float bestLen = -1.0f;
       for (int e = 0; e < 3; ++e) {
         const float* a = p(ix[t + e]);
@@ -326,26 +329,50 @@ void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vecto
           best = e;
         }
       }
-      const unsigned int a = ix[t + best], b = ix[t + (best + 1) % 3], c = ix[t + (best + 2) % 3];
-      auto it = edgeTri.find((static_cast<std::uint64_t>(b) << 32) | a);
-      if (it == edgeTri.end() || touched[it->second / 3]) continue;
-      const size_t u = it->second;
-      unsigned int d = ix[u];
-      for (int e = 0; e < 3; ++e)
-        if (ix[u + e] != a && ix[u + e] != b) d = ix[u + e];
-      if (d == c || edgeTri.count((static_cast<std::uint64_t>(c) << 32) | d) || edgeTri.count((static_cast<std::uint64_t>(d) << 32) | c))
-        continue;
+      cands.push_back({t, ix[t + best], ix[t + (best + 1) % 3], ix[t + (best + 2) % 3]});
+    }
+    if (cands.empty()) return;
+    // The neighbour across each longest edge.
+    std::unordered_map<std::uint64_t, size_t> wanted;
+    for (size_t i = 0; i < cands.size(); ++i) wanted[key(cands[i].b, cands[i].a)] = i;
+    for (size_t t = 0; t < n; t += 3)
+      for (int e = 0; e < 3; ++e) {
+        auto it = wanted.find(key(ix[t + e], ix[t + (e + 1) % 3]));
+        if (it == wanted.end()) continue;
+        Candidate& c = cands[it->second];
+        c.u = t;
+        c.d = ix[t + (e + 2) % 3];
+      }
+    // The new edges c-d must not exist already.
+    std::unordered_map<std::uint64_t, bool> fresh;
+    for (const Candidate& c : cands)
+      if (c.u != SIZE_MAX) fresh[key(std::min(c.c, c.d), std::max(c.c, c.d))] = true;
+    for (size_t t = 0; t < n; t += 3)
+      for (int e = 0; e < 3; ++e) {
+        const unsigned int u = ix[t + e], v = ix[t + (e + 1) % 3];
+        auto it = fresh.find(key(std::min(u, v), std::max(u, v)));
+        if (it != fresh.end()) it->second = false;
+      }
+    std::unordered_map<size_t, bool> touched;
+    bool changed = false;
+    for (const Candidate& c : cands) {
+      if (c.u == SIZE_MAX || c.d == c.c || !fresh[key(std::min(c.c, c.d), std::max(c.c, c.d))]) continue;
+      if (touched.count(c.t) || touched.count(c.u)) continue;
+      const size_t t = c.t, u = c.u;
+      const unsigned int a = c.a, b = c.b, cc = c.c, d = c.d;
       float nu[3], n1[3], n2[3];
       crossLength2(p(ix[u]), p(ix[u + 1]), p(ix[u + 2]), nu);
-      if (sliver(p(a), p(d), p(c)) || sliver(p(d), p(b), p(c))) continue;
-      crossLength2(p(a), p(d), p(c), n1);
-      crossLength2(p(d), p(b), p(c), n2);
+      if (sliver(p(a), p(d), p(cc)) || sliver(p(d), p(b), p(cc))) continue;
+      crossLength2(p(a), p(d), p(cc), n1);
+      crossLength2(p(d), p(b), p(cc), n2);
       if (n1[0] * nu[0] + n1[1] * nu[1] + n1[2] * nu[2] <= 0.0f || n2[0] * nu[0] + n2[1] * nu[1] + n2[2] * nu[2] <= 0.0f) continue;
-      ix[t] = a, ix[t + 1] = d, ix[t + 2] = c;
-      ix[u] = d, ix[u + 1] = b, ix[u + 2] = c;
-      touched[t / 3] = touched[u / 3] = true;
+      ix[t] = a, ix[t + 1] = d, ix[t + 2] = cc;
+      ix[u] = d, ix[u + 1] = b, ix[u + 2] = cc;
+      touched[t] = touched[u] = true;
+      fresh[key(std::min(cc, d), std::max(cc, d))] = false;  // now it exists
+      changed = true;
     }
-    if (!any) return;
+    if (!changed) return;
   }
 }
 
@@ -375,20 +402,22 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
     }
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   if (extent <= 0.0) return false;
-  auto edgesOf = [](const unsigned int* ix, size_t n, std::unordered_map<std::uint64_t, int>& directed) {
+  // Directed edges, sorted (a sort beats a hash map here): a repeat is a neighbour equal to it, a
+  // border edge one whose reverse is missing.
+  auto edgesOf = [](const unsigned int* ix, size_t n) {
+    std::vector<std::uint64_t> e(n);
     for (size_t t = 0; t < n; t += 3)
-      for (int e = 0; e < 3; ++e) ++directed[(static_cast<std::uint64_t>(ix[t + e]) << 32) | ix[t + (e + 1) % 3]];
+      for (int k = 0; k < 3; ++k) e[t + k] = (static_cast<std::uint64_t>(ix[t + k]) << 32) | ix[t + (k + 1) % 3];
+    std::sort(e.begin(), e.end());
+    return e;
   };
-  auto border = [](const std::unordered_map<std::uint64_t, int>& directed) {
+  auto border = [](const std::vector<std::uint64_t>& sorted) {
     std::vector<std::uint64_t> b;
-    for (const auto& [key, count] : directed)
-      if (!directed.count((key << 32) | (key >> 32))) b.push_back(key);
-    std::sort(b.begin(), b.end());
+    for (std::uint64_t key : sorted)
+      if (!std::binary_search(sorted.begin(), sorted.end(), (key << 32) | (key >> 32))) b.push_back(key);
     return b;
   };
-  std::unordered_map<std::uint64_t, int> before;
-  edgesOf(idx.data(), idx.size(), before);
-  const auto originalBorder = border(before);
+  const auto originalBorder = border(edgesOf(idx.data(), idx.size()));
   std::vector<unsigned int> out(idx.size());
   for (double error : {maxError, 0.25 * maxError}) {
     const size_t n = meshopt_simplify(out.data(), idx.data(), idx.size(), pos.data(), global.size(), sizeof(float) * 3, 0,
@@ -407,11 +436,8 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
            !sliver(a, b, c, 0.1f * kSliver);  // a tile is not refused for what the last pass mends
     }
     if (!ok) continue;
-    std::unordered_map<std::uint64_t, int> after;
-    edgesOf(out.data(), n, after);
-    for (const auto& [key, count] : after) {
-      ok = ok && count == 1;
-    }
+    const auto after = edgesOf(out.data(), n);
+    ok = std::adjacent_find(after.begin(), after.end()) == after.end();
     if (!ok || border(after) != originalBorder) continue;
     tris.resize(n / 3);
     for (size_t t = 0; t < n / 3; ++t) tris[t] = {global[out[3 * t]], global[out[3 * t + 1]], global[out[3 * t + 2]]};
@@ -672,7 +698,7 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
 }
 
 std::string checkClosedManifold(const TriangleMesh& mesh) {
-  std::unordered_map<std::uint64_t, int> directed;
+  std::vector<std::uint64_t> directed;
   directed.reserve(mesh.triangles.size() * 3);
   size_t degenerate = 0;
   for (const auto& t : mesh.triangles) {
@@ -687,14 +713,17 @@ std::string checkClosedManifold(const TriangleMesh& mesh) {
     const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
     const float nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
     if (nx == 0.0f && ny == 0.0f && nz == 0.0f) ++degenerate;
-    for (int e = 0; e < 3; ++e) ++directed[(static_cast<std::uint64_t>(t[e]) << 32) | t[(e + 1) % 3]];
+    for (int e = 0; e < 3; ++e) directed.push_back((static_cast<std::uint64_t>(t[e]) << 32) | t[(e + 1) % 3]);
   }
+  std::sort(directed.begin(), directed.end());
   size_t open = 0, repeated = 0;
-  for (const auto& [key, count] : directed) {
-    if (count > 1) ++repeated;
-    const std::uint64_t reverse = (key << 32) | (key >> 32);
-    auto it = directed.find(reverse);
-    if (it == directed.end()) ++open;
+  for (size_t i = 0; i < directed.size(); ++i) {
+    const std::uint64_t key = directed[i];
+    if (i + 1 < directed.size() && directed[i + 1] == key) {
+      ++repeated;
+      continue;
+    }
+    if (!std::binary_search(directed.begin(), directed.end(), (key << 32) | (key >> 32))) ++open;
   }
   if (degenerate == 0 && open == 0 && repeated == 0) return {};
   return std::to_string(open) + " open edges, " + std::to_string(repeated) + " edges used twice the same way, " +
