@@ -58,6 +58,16 @@ else
 fi
 check "export 3mf" 0 "$emboss" export "$tmp/s.json" --format 3mf -o "$tmp/x.3mf" --resolution 0.3
 [ "$(head -c 2 "$tmp/x.3mf")" = "PK" ] || { echo "FAIL 3mf is not a zip"; fail=1; }
+# A slicer opens both: PrusaSlicer's own mesh check (manifold, one part).
+if command -v prusa-slicer >/dev/null; then
+  for f in x.stl x.3mf; do
+    timeout 120 prusa-slicer --info "$tmp/$f" >"$tmp/ps" 2>&1
+    grep -q "^manifold = yes" "$tmp/ps" && grep -Eq "^number_of_parts = +1$" "$tmp/ps" ||
+      { echo "FAIL prusa-slicer on $f: $(grep -E 'manifold|parts|rror' "$tmp/ps" | head -3)"; fail=1; }
+  done
+else
+  echo "# prusa-slicer not installed: the slicer check skipped"
+fi
 check "export heightmap" 0 "$emboss" export "$tmp/s.json" --format heightmap -o "$tmp/h.png" --resolution 0.2
 file "$tmp/h.png" | grep -q "16-bit grayscale" || { echo "FAIL heightmap: $(file "$tmp/h.png")"; fail=1; }
 check "export postcard" 0 "$emboss" export "$tmp/s.json" --format postcard -o "$tmp/card.png"
