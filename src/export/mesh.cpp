@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -556,9 +557,14 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
   g.oz = b.z0 - h;
   const auto cells = [&](double lo, double hi) { return static_cast<double>(std::ceil((hi - lo) / h)) + 2.0; };
   const double cx = cells(b.x0, b.x1), cy = cells(b.y0, b.y1), cz = cells(b.z0, b.z1);
-  if (!(cx * cy * cz <= options.maxCells) || cx >= (1 << 20) || cy >= (1 << 20) || cz >= (1 << 18))
-    return fail("a mesh cell of " + std::to_string(h) + " mm is too fine for a piece of " + std::to_string(b.x1 - b.x0) +
-                " x " + std::to_string(b.y1 - b.y0) + " x " + std::to_string(b.z1 - b.z0) + " mm");
+  if (!(cx * cy * cz <= options.maxCells) || !(cx * cy <= options.maxColumns) || cx >= (1 << 20) || cy >= (1 << 20) ||
+      cz >= (1 << 18))
+  {
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "a mesh cell of %.3g mm is too fine for a piece of %.4g x %.4g mm (use --resolution %.2g or more)",
+                  h, b.x1 - b.x0, b.y1 - b.y0, std::sqrt((b.x1 - b.x0) * (b.y1 - b.y0) / options.maxColumns) * 1.01);
+    return fail(msg);
+  }
   g.nx = static_cast<int>(cx);
   g.ny = static_cast<int>(cy);
   g.nz = static_cast<int>(cz);

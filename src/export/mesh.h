@@ -29,8 +29,10 @@ struct MeshOptions {
   int threads = 0;  // 0: one per core
   // Called with the fraction done (0..1), from the calling thread or a worker, never concurrently.
   std::function<void(double)> progress;
-  // Refused beyond this many grid cells (a guard against a cell far too fine for the piece).
+  // Refused beyond this many grid cells, or columns of cells in the plate's plane (the fine mesh
+  // has a few triangles per column and face: 10^8 columns would need tens of gigabytes).
   double maxCells = 4e10;
+  double maxColumns = 1e8;
 };
 
 struct MeshStats {

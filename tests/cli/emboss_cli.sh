@@ -72,5 +72,8 @@ check "export heightmap" 0 "$emboss" export "$tmp/s.json" --format heightmap -o 
 file "$tmp/h.png" | grep -q "16-bit grayscale" || { echo "FAIL heightmap: $(file "$tmp/h.png")"; fail=1; }
 check "export postcard" 0 "$emboss" export "$tmp/s.json" --format postcard -o "$tmp/card.png"
 file "$tmp/card.png" | grep -q "1800 x 1200" || { echo "FAIL postcard: $(file "$tmp/card.png")"; fail=1; }
+check "export stl too fine" 1 "$emboss" export "$tmp/s.json" --format stl -o "$tmp/fine.stl" --resolution 0.001
+grep -q "too fine" "$tmp/err" || { echo "FAIL too fine: $(cat "$tmp/err")"; fail=1; }
+[ -e "$tmp/fine.stl" ] && { echo "FAIL a refused export left a file"; fail=1; }
 check "export stl unwritable" 1 "$emboss" export "$tmp/s.json" --format stl -o "$tmp/no/such/dir/x.stl"
 exit $fail
