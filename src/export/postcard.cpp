@@ -27,6 +27,42 @@ void fill(Image& image, int x0, int y0, int x1, int y1, const std::array<std::ui
     }
 }
 
+// The scene's camera moved along its line of sight (or, ortho, its view height changed) so that the
+// sheet fills the window with a margin: a visitor's camera frames the bench, the card the piece.
+CameraSpec framed(const CameraSpec& c, const Box3& sheet, double aspect) {
+  auto sub = [](Vec3 a, Vec3 b) { return Vec3{a.x - b.x, a.y - b.y, a.z - b.z}; };
+  auto dot = [](Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; };
+  auto cross = [](Vec3 a, Vec3 b) { return Vec3{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; };
+  auto unit = [&](Vec3 a) {
+    const double l = std::sqrt(dot(a, a));
+    return l > 0 ? Vec3{a.x / l, a.y / l, a.z / l} : a;
+  };
+  const Vec3 centre{0.5 * (sheet.x0 + sheet.x1), 0.5 * (sheet.y0 + sheet.y1), 0.5 * (sheet.z0 + sheet.z1)};
+  const Vec3 back = unit(sub(c.eye, c.target));  // from the target toward the eye
+  const Vec3 right = unit(cross(c.up, back));
+  const Vec3 up = cross(back, right);
+  if (!(dot(back, back) > 0.5 && dot(right, right) > 0.5)) return c;
+  constexpr double kFill = 0.9;
+  CameraSpec out = c;
+  out.target = centre;
+  const double tv = std::tan(0.5 * c.fovDeg * M_PI / 180.0) * kFill, th = tv * aspect;
+  double dist = 0.0, halfH = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 corner{k & 1 ? sheet.x1 : sheet.x0, k & 2 ? sheet.y1 : sheet.y0, k & 4 ? sheet.z1 : sheet.z0};
+    const Vec3 p = sub(corner, centre);
+    const double x = std::abs(dot(p, right)), y = std::abs(dot(p, up)), z = dot(p, back);
+    dist = std::max({dist, z + y / tv, z + x / th});
+    halfH = std::max({halfH, y, x / aspect});
+  }
+  if (c.type == CameraSpec::Type::Ortho) {
+    out.eye = {centre.x + back.x * 200.0, centre.y + back.y * 200.0, centre.z + back.z * 200.0};
+    out.height = 2.0 * halfH / kFill;
+  } else {
+    out.eye = {centre.x + back.x * dist, centre.y + back.y * dist, centre.z + back.z * dist};
+  }
+  return out;
+}
+
 std::string capitalised(std::string s) {
   if (!s.empty() && s[0] >= 'a' && s[0] <= 'z') s[0] = static_cast<char>(s[0] - 'a' + 'A');
   return s;
@@ -58,7 +94,9 @@ Result<Image> postcard(const Scene& scene, const Model& model, const PostcardOpt
   if (!metal || !tinge) return fail("unknown metal or tinge in the scene");
   ThreadPool pool(options.threads);
   Renderer renderer(pool);
-  renderer.setCamera(Camera(scene.camera, pw, ph));
+  Box3 sheet = model.workpiece().bounds();
+  sheet.z0 -= 2.0, sheet.z1 += 2.0;  // room for the relief
+  renderer.setCamera(Camera(framed(scene.camera, sheet, static_cast<double>(pw) / ph), pw, ph));
   ShadingParams shading;
   shading.metal = *metal;
   shading.tinge = *tinge;
