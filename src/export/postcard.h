@@ -29,7 +29,8 @@ struct PostcardOptions {
   std::string date;  // as printed, e.g. "25 November 2026"; empty: today
 };
 
-// A paper-coloured card: the piece ray traced with its own camera in a framed window, and under it
+// A paper-coloured card: the piece ray traced in a framed window (the scene camera's direction,
+// brought close enough for the sheet to fill it), and under it
 // the title (or "Embossed at the museum"), the metal and the date, and the program's name. Without
 // a painter (no font) the card has the picture and no words.
 Result<Image> postcard(const Scene& scene, const Model& model, const PostcardOptions& options, TextPainter* text);
