@@ -24,11 +24,6 @@ void SessionExport::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-SessionStore::ExportProgress SessionExport::progress() const {
-  std::lock_guard lock(m_);
-  return progress_;
-}
-
 std::vector<SessionStore::ExportProgress> SessionExport::takeUpdates() {
   std::lock_guard lock(m_);
   std::vector<SessionStore::ExportProgress> out;
@@ -56,7 +51,6 @@ void SessionExport::run() {
   auto r = store.exportAll(request_.dest, sanitizeName(request_.stamp), current, {}, request_.sinceUnix,
                            [this](const SessionStore::ExportProgress& p) {
                              std::lock_guard lock(m_);
-                             progress_ = p;
                              updates_.push_back(p);
                            },
                            &stop_, hook);

@@ -29,7 +29,7 @@ struct ExportRequest {
   std::function<std::unique_ptr<TextPainter>()> textFactory;  // the postcard's caption (none: no words)
 };
 
-// Thread-safe: the main loop starts it and reads progress() and result(); the export's thread writes.
+// Thread-safe: the main loop starts it and reads takeUpdates() and result(); the export's thread writes.
 class SessionExport {
  public:
   // Checks the destination (a mounted file system other than the root's, unless allowAnyDir) and
@@ -43,7 +43,6 @@ class SessionExport {
   // how far it got.
   void stop();
   const std::filesystem::path& dest() const { return request_.dest; }
-  SessionStore::ExportProgress progress() const;
   // Every progress report since the last call, in order (none is lost between two main-loop steps,
   // however fast the copying goes).
   std::vector<SessionStore::ExportProgress> takeUpdates();
@@ -58,7 +57,6 @@ class SessionExport {
   std::filesystem::path sessionsDir_;
   ExportRequest request_;
   mutable std::mutex m_;
-  SessionStore::ExportProgress progress_;
   std::vector<SessionStore::ExportProgress> updates_;
   Result<SessionStore::ExportSummary> result_ = fail("the export has not finished");
   std::atomic<bool> done_{false};

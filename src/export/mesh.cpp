@@ -430,10 +430,8 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
       const float* a = &pos[3 * out[t]];
       const float* b = &pos[3 * out[t + 1]];
       const float* c = &pos[3 * out[t + 2]];
-      const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-      const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-      const float nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-      ok = out[t] != out[t + 1] && out[t + 1] != out[t + 2] && out[t] != out[t + 2] && (nx != 0.0f || ny != 0.0f || nz != 0.0f) &&
+      float n[3];
+      ok = out[t] != out[t + 1] && out[t + 1] != out[t + 2] && out[t] != out[t + 2] && crossLength2(a, b, c, n) != 0.0f &&
            !sliver(a, b, c, 0.1f * kSliver);  // a tile is not refused for what the last pass mends
     }
     if (!ok) continue;
@@ -712,13 +710,8 @@ std::string checkClosedManifold(const TriangleMesh& mesh) {
       ++degenerate;
       continue;
     }
-    const auto& a = mesh.vertices[t[0]];
-    const auto& b = mesh.vertices[t[1]];
-    const auto& c = mesh.vertices[t[2]];
-    const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-    const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-    const float nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-    if (nx == 0.0f && ny == 0.0f && nz == 0.0f) ++degenerate;
+    float n[3];
+    if (crossLength2(mesh.vertices[t[0]].data(), mesh.vertices[t[1]].data(), mesh.vertices[t[2]].data(), n) == 0.0f) ++degenerate;
     for (int e = 0; e < 3; ++e) directed.push_back((static_cast<std::uint64_t>(t[e]) << 32) | t[(e + 1) % 3]);
   }
   std::sort(directed.begin(), directed.end());

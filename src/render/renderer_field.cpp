@@ -127,17 +127,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     const double r = 0.5 * lipschitzAlong((b - a) / len, field_.bound(xy), workpieceKind_) * len + kPruneEps;
     if (std::max(fm + r, outsideUpper) >= -kPruneEps || setOpHere) slabBound = false, columnsOk = false;
   }
-  if (workpieceKind_ == 4 && !columnsOk) {
-    Interval d;
-    if (field_.containsBox(xy)) {
-      const HeightField::Bound r = field_.bound(xy);
-      d = Interval(r.lo, r.hi);
-      ++st.fieldEvaluations;
-    } else {
-      d = exactDisplacement(box, grid_.in(xy, scratch), st);
-    }
-    v = model_->workpiece().value(P3<Interval>{box.x, box.y, box.z - d});
-  } else if (slabBound) {
+  if (slabBound && !(workpieceKind_ == 4 && !columnsOk)) {
     const double fm = sheetValue(0.5 * (a + b));
     const double len = glm::length(b - a);
     const double r = 0.5 * lipschitzAlong((b - a) / len, field_.bound(xy), workpieceKind_) * len + kPruneEps;
