@@ -5,9 +5,11 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "export/studio.h"
 #include "export/take_home.h"
 #include "export/pov.h"
 #include "render/renderer.h"
@@ -58,8 +60,9 @@ Commands::Commands(CLI::App& app) : app_(app) {
   exportCmd_->add_option("scene", scene_, "Scene file (JSON)")->required();
   exportCmd_->add_option("--format", format_,
                          "pov (POV-Ray 3.7 isosurface), stl (binary, mm), 3mf, heightmap (16-bit greyscale PNG of the front face), "
-                         "postcard (PNG, the piece with its title and date)")
-      ->check(CLI::IsMember({"pov", "stl", "3mf", "heightmap", "postcard"}))
+                         "postcard (PNG, the piece with its title and date), studio (the lighting as a Radiance .hdr, with "
+                         "the camera and the metal's optical constants in a .json beside it, for a path tracer)")
+      ->check(CLI::IsMember({"pov", "stl", "3mf", "heightmap", "postcard", "studio"}))
       ->capture_default_str();
   exportCmd_->add_option("-o,--output", out_, "Output file")->required();
   exportCmd_->add_option("--size", size_, "Picture size WxH the POV camera is set up for")->capture_default_str();
@@ -188,9 +191,10 @@ int Commands::render() {
                 pool.size(), totalMs / repeat_, repeat_);
   }
   if (stats_) {
-    std::printf("stats: pixels traced %llu, hits %llu, mean steps per ray %.2f, mean operations per evaluation %.2f\n",
+    std::printf("stats: pixels traced %llu, hits %llu, mean steps per ray %.2f, mean operations per evaluation %.2f, "
+                "edge pixels %llu (anti-aliased)\n",
                 static_cast<unsigned long long>(stats.rays), static_cast<unsigned long long>(stats.hits), stats.meanStepsPerRay(),
-                stats.meanOpsPerEvaluation());
+                stats.meanOpsPerEvaluation(), static_cast<unsigned long long>(stats.edgePixels));
   }
   Status s = writePng(image, out_);
   if (!s) {
@@ -216,6 +220,17 @@ int Commands::exportScene() {
   if (!model) {
     std::fprintf(stderr, "emboss export: %s\n", model.error().c_str());
     return 1;
+  }
+  if (format_ == "studio") {
+    std::filesystem::path json = out_;
+    json.replace_extension(".json");
+    if (json == std::filesystem::path(out_)) json += ".json";
+    if (Status s = writeStudio(*scene, out_, json.string()); !s) {
+      std::fprintf(stderr, "emboss export: %s\n", s.error().c_str());
+      return 1;
+    }
+    std::printf("wrote %s\nwrote %s\n", out_.c_str(), json.string().c_str());
+    return 0;
   }
   if (format_ != "pov") {
     TakeHomeOptions o;

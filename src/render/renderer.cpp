@@ -8,8 +8,8 @@ using namespace render_internal;
 
 // ---------------------------------------------------------------- the exact tracer
 
-std::optional<Renderer::Hit> Renderer::traceExact(int px, int py, RenderStats& st, std::vector<std::uint32_t>& scratch) const {
-  const Ray ray = camera_->ray(px, py);
+std::optional<Renderer::Hit> Renderer::traceExact(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const {
+  const Ray ray = camera_->rayAt(sx, sy);
   ++st.rays;
   double t0, t1;
   if (!clipRay(ray, bounds_, t0, t1)) return std::nullopt;
@@ -103,6 +103,37 @@ std::optional<Renderer::Hit> Renderer::traceExact(int px, int py, RenderStats& s
 
 // ---------------------------------------------------------------- frames
 
+namespace {
+
+// Sub-pixel offsets of the extra samples on an edge (a rotated grid: no two share a row or column).
+constexpr double kEdgeSamples[4][2] = {{-0.125, -0.375}, {0.375, -0.125}, {0.125, 0.375}, {-0.375, 0.125}};
+// An edge: the sheet against the backdrop, a crease (neighbours' normals more than ~30 degrees
+// apart: a groove's lip, a rim), or a hard highlight (the brightness, the square root of the
+// luminance, jumps by more than kEdgeContrast). Smooth shading across the hammer's dimples is no
+// edge: four more rays there would double the frame's cost for nothing a visitor sees.
+constexpr float kEdgeContrast = 0.22f;
+constexpr float kCreaseCos = 0.87f;
+
+float brightness(const glm::vec3& c) { return std::sqrt(std::max(0.0f, 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b)); }
+
+}  // namespace
+
+glm::dvec3 Renderer::sample(double sx, double sy, bool field, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                            bool* hitOut, glm::vec3* normalOut) const {
+  const auto hit = field ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
+  if (hitOut) *hitOut = hit.has_value();
+  if (normalOut) *normalOut = hit ? glm::vec3(hit->n) : glm::vec3(0.0f);
+  if (!hit) return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
+  double cavity = 0.0;
+  if (field) {
+    const Box2 dom = field_.domain();
+    cavity = cavityAt(hit->p.x, hit->p.y, [&](double x, double y) {
+      return field_.value(std::clamp(x, dom.x0, dom.x1), std::clamp(y, dom.y0, dom.y1));
+    });
+  }
+  return shadeMetal(shading_, hit->p, hit->n, hit->dir, cavity);
+}
+
 bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, const std::atomic_bool* cancel) {
   const int w = camera_->width(), h = camera_->height();
   if (image.width != w || image.height != h) image = Image(w, h);
@@ -111,49 +142,88 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
   rect.h = std::min(h, rectIn.y + rectIn.h) - rect.y;
   if (rect.empty()) return true;
   const bool field = usesField();
+  // Two passes. The first traces one ray through the centre of every pixel of the rectangle and
+  // of the ring of pixels around it; the second writes the rectangle's pixels, each from its own
+  // centre sample, or, where it differs from a neighbour's (an edge: the sheet against the
+  // backdrop, a groove's lip), from four more rays inside it. A pixel's bytes so depend on its own
+  // and its four neighbours' rays only: dirtyRect() grows by one pixel for it.
+  const Rect outer{std::max(0, rect.x - 1), std::max(0, rect.y - 1), 0, 0};
+  Rect ring = outer;
+  ring.w = std::min(w, rect.x + rect.w + 1) - ring.x;
+  ring.h = std::min(h, rect.y + rect.h + 1) - ring.y;
+  std::vector<glm::vec3> centre(static_cast<size_t>(ring.w) * ring.h);
+  std::vector<std::uint8_t> hitMask(centre.size());
+  std::vector<glm::vec3> normal(centre.size());
+  auto at = [&](int x, int y) { return static_cast<size_t>(y - ring.y) * ring.w + (x - ring.x); };
   // Small rectangles (dirty updates) in smaller tiles, so that every thread gets a share; the
   // tiles change no pixel.
   int tileSize = options_.tileSize;
   while (tileSize > 8 && static_cast<long>(rect.w / tileSize + 1) * (rect.h / tileSize + 1) < 6L * pool_.size()) tileSize /= 2;
   std::mutex statsMutex;
   std::atomic_bool aborted{false};
-  const bool done = pool_.parallelFor2D(rect, tileSize, [&](const Rect& tile) {
-    using Clock = std::chrono::steady_clock;
+  using Clock = std::chrono::steady_clock;
+  bool done = pool_.parallelFor2D(ring, tileSize, [&](const Rect& tile) {
     thread_local std::vector<std::uint32_t> scratch;
-    thread_local std::vector<std::optional<Hit>> hits;
     RenderStats st;
     const auto start = Clock::now();
-    hits.resize(static_cast<size_t>(tile.w) * tile.h);
     for (int y = tile.y; y < tile.y + tile.h; ++y) {
       // A superseded frame stops within a row.
       if (cancel && cancel->load(std::memory_order_relaxed)) {
         aborted = true;
         return;
       }
-      for (int x = tile.x; x < tile.x + tile.w; ++x)
-        hits[static_cast<size_t>(y - tile.y) * tile.w + (x - tile.x)] =
-            field ? traceField(x, y, st, scratch) : traceExact(x, y, st, scratch);
-    }
-    const auto traced = Clock::now();
-    for (int y = tile.y; y < tile.y + tile.h; ++y)
       for (int x = tile.x; x < tile.x + tile.w; ++x) {
-        const auto& hit = hits[static_cast<size_t>(y - tile.y) * tile.w + (x - tile.x)];
+        bool hit = false;
+        centre[at(x, y)] = glm::vec3(sample(x + 0.5, y + 0.5, field, st, scratch, &hit, &normal[at(x, y)]));
+        hitMask[at(x, y)] = hit;
+      }
+    }
+    st.traceSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    std::lock_guard lock(statsMutex);
+    if (stats) *stats += st;
+  }, cancel);
+  if (!done || aborted.load()) return false;
+  done = pool_.parallelFor2D(rect, tileSize, [&](const Rect& tile) {
+    thread_local std::vector<std::uint32_t> scratch;
+    RenderStats st;
+    const auto start = Clock::now();
+    for (int y = tile.y; y < tile.y + tile.h; ++y) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) {
+        aborted = true;
+        return;
+      }
+      for (int x = tile.x; x < tile.x + tile.w; ++x) {
+        const size_t i = at(x, y);
+        const float b = brightness(centre[i]);
+        bool edge = false;
+        for (const auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
+          const size_t j = at(nx, ny);
+          if (hitMask[j] != hitMask[i] || std::abs(brightness(centre[j]) - b) > kEdgeContrast ||
+              (hitMask[i] && glm::dot(normal[i], normal[j]) < kCreaseCos))
+            edge = true;
+        }
         std::uint8_t* px = image.pixel(x, y);
-        if (hit) {
-          const auto rgb = toSrgb8Fast(shadeMetal(shading_, hit->p, hit->n, hit->dir));
-          px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2];
+        if (!edge && !hitMask[i]) {
+          const std::uint8_t* bd = &backdrop_[(static_cast<size_t>(y) * w + x) * 3];
+          px[0] = bd[0], px[1] = bd[1], px[2] = bd[2];
         } else {
-          const std::uint8_t* b = &backdrop_[(static_cast<size_t>(y) * w + x) * 3];
-          px[0] = b[0], px[1] = b[1], px[2] = b[2];
+          glm::dvec3 c(centre[i]);
+          if (edge) {
+            for (const auto& o : kEdgeSamples) c += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, st, scratch);
+            c /= 5.0;
+            ++st.edgePixels;
+          }
+          const auto rgb = toSrgb8Fast(c);
+          px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2];
         }
         px[3] = 255;
       }
-    st.traceSeconds = std::chrono::duration<double>(traced - start).count();
-    st.shadeSeconds = secondsSince(traced);
-    if (stats) {
-      std::lock_guard lock(statsMutex);
-      *stats += st;
     }
+    st.shadeSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    std::lock_guard lock(statsMutex);
+    if (stats) *stats += st;
   }, cancel);
   return done && !aborted.load();
 }
@@ -184,6 +254,16 @@ Rect Renderer::projectBox(const Box3& b) const {
 }
 
 Rect Renderer::dirtyRect(const Model& model, size_t index) const {
+  // A pixel reads its four neighbours' rays (render()): one pixel more each way.
+  Rect r = dirtyRectOfRays(model, index);
+  if (r.empty()) return r;
+  const int x1 = std::min(camera_->width(), r.x + r.w + 1), y1 = std::min(camera_->height(), r.y + r.h + 1);
+  r.x = std::max(0, r.x - 1), r.y = std::max(0, r.y - 1);
+  r.w = x1 - r.x, r.h = y1 - r.y;
+  return r;
+}
+
+Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {
   if (index >= model.operations().size()) return {};
   const auto& ops = model.operations();
   const PreparedOp& op = ops[index];
@@ -226,7 +306,8 @@ Rect Renderer::dirtyRect(const Model& model, size_t index) const {
   }
   // An offset changes the samples under its support, and through the Hermite stencil (the
   // twists read the neighbours' slopes) the patches up to two samples further.
-  const Box2 s = op.support().grown(2.0 * field_.spacing() + cell);
+  // The shading reads D within kCavityReach of a hit (the cavity term).
+  const Box2 s = op.support().grown(2.0 * field_.spacing() + cell + kCavityReach);
   const double peak = peakOf(op.op());
   HeightField::Bound d = field_.rootBound();
   const Box2 dom = field_.domain();

@@ -26,13 +26,14 @@ struct RenderStats {
   std::uint64_t opsVisited = 0;   // operation kernels evaluated over all evaluations
   std::uint64_t fieldEvaluations = 0;  // evaluations whose displacement came from the cached field
   double traceSeconds = 0.0;      // time spent finding surfaces (wall clock per tile, summed over tiles)
-  double shadeSeconds = 0.0;      // time spent shading and converting to sRGB (likewise)
+  double shadeSeconds = 0.0;      // time spent on the second pass: edges' extra rays, sRGB (likewise)
+  std::uint64_t edgePixels = 0;   // pixels anti-aliased with four extra rays
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
   double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
   RenderStats& operator+=(const RenderStats& o) {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
-    fieldEvaluations += o.fieldEvaluations, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
+    fieldEvaluations += o.fieldEvaluations, edgePixels += o.edgePixels, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
     return *this;
   }
 };
@@ -66,7 +67,11 @@ class Renderer {
   // render). Appends cost the new operation's support; undo recomputes the samples under it.
   void sync(const Model& model);
   void setCamera(const Camera& camera);
-  void setShading(const ShadingParams& shading) { shading_ = shading; }
+  // Also builds the metal's shading tables on the pool the first time a metal is seen.
+  void setShading(const ShadingParams& shading) {
+    shading_ = shading;
+    prepareShading(shading_.metal, &pool_);
+  }
   void setOptions(const RenderOptions& options) { options_ = options; }
 
   // Traces every pixel of `rect` into `image` (sized to the camera). Returns false if cancelled
@@ -77,7 +82,8 @@ class Renderer {
 
   // The pixels whose rays can see a change made by operation `index` of the model (just appended,
   // or just undone): the projection of the 3D box where f can change sign or where a hit's
-  // neighbourhood can change, grown by one ray cell. Call after sync().
+  // neighbourhood (its normal, its cavity term) can change, grown by one ray cell, and by one
+  // pixel for the anti-aliasing. Call after sync().
   Rect dirtyRect(const Model& model, size_t index) const;
 
   const OpGrid& grid() const { return grid_; }
@@ -121,8 +127,14 @@ class Renderer {
   void syncSetOps(const Model& model);
   double peakOf(const Operation& o) const;
 
-  std::optional<Hit> traceExact(int px, int py, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
-  std::optional<Hit> traceField(int px, int py, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  // Rays through image point (sx, sy) (pixel x's centre is x + 0.5).
+  std::optional<Hit> traceExact(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  std::optional<Hit> traceField(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  // The linear colour of the ray through (sx, sy): shaded metal, or the backdrop.
+  glm::dvec3 sample(double sx, double sy, bool field, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                    bool* hit = nullptr, glm::vec3* normal = nullptr) const;
+  // dirtyRect() before the anti-aliasing's one pixel.
+  Rect dirtyRectOfRays(const Model& model, size_t index) const;
   template <class T>
   T exactDisplacement(const P3<T>& p, std::span<const std::uint32_t> candidates, RenderStats& st) const;
   double fieldValue(const RayContext& rc, const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch,

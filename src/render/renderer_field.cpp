@@ -188,9 +188,9 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
   return len > 0 ? n / len : glm::dvec3(0, 0, 1);
 }
 
-std::optional<Renderer::Hit> Renderer::traceField(int px, int py, RenderStats& st,
+std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderStats& st,
                                                   std::vector<std::uint32_t>& scratch) const {
-  const Ray ray = camera_->ray(px, py);
+  const Ray ray = camera_->rayAt(sx, sy);
   ++st.rays;
   double t0, t1;
   if (!clipRay(ray, fieldClip_, t0, t1)) return std::nullopt;

@@ -1,11 +1,19 @@
-// Metal shading: a studio environment (softboxes, a dim room) reflected by a GGX-like lobe.
+// Metal shading: a studio environment (softboxes, a dim room) reflected by a GGX microfacet lobe with
+// the conductor Fresnel term of the metal's measured n and k (split-sum prefiltering, multiple
+// scattering compensated), the planishing hammer's dimples, and occlusion in the cavities.
 #include "render/shading.h"
+
+#include "render/thread_pool.h"
 
 #include <algorithm>
 #include <cmath>
+#include <array>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <tuple>
 #include <vector>
 
 namespace emboss {
@@ -13,65 +21,112 @@ namespace emboss {
 namespace {
 
 // Radiance of the studio around the bench, by direction (z is toward the viewer's side of the
-// sheet, y up the bench). Two softboxes high above-left and above-right, a long strip light
-// above, a warm floor bounce and a dark room: the mix that makes chased metal read.
-glm::dvec3 environment(const glm::dvec3& d) {
-  glm::dvec3 c = glm::mix(glm::dvec3(0.030, 0.028, 0.026), glm::dvec3(0.16, 0.15, 0.14), std::clamp(0.5 + 0.5 * d.y, 0.0, 1.0));
-  auto box = [&](const glm::dvec3& center, double size, double power, double soft = 0.03) {
-    const double k = glm::dot(d, glm::normalize(center));
-    const double edge = std::cos(size);
-    if (k <= edge - soft) return 0.0;
-    return power * std::clamp((k - (edge - soft)) / soft, 0.0, 1.0);
-  };
-  // A large, soft overhead panel in front of the bench: what a flat sheet mirrors from where a
-  // visitor stands, so the untouched metal reads bright with a falloff rather than dull.
-  c += glm::dvec3(1.0, 0.96, 0.90) * box({-0.08, 0.45, 0.89}, 0.30, 0.85, 0.12);
-  c += glm::dvec3(1.0, 0.97, 0.92) * box({-0.55, 0.65, 0.55}, 0.33, 5.0);
-  c += glm::dvec3(0.90, 0.95, 1.00) * box({0.65, 0.45, 0.60}, 0.25, 3.0);
-  c += glm::dvec3(1.0, 1.0, 1.0) * box({0.0, 0.9, 0.45}, 0.12, 6.0);
-  // Floor bounce from below the bench.
-  c += glm::dvec3(0.10, 0.07, 0.05) * std::clamp(-d.y, 0.0, 1.0);
-  return c;
+// sheet, y up the bench), in warm museum light (about 3200 K). A dark room; a large overhead panel
+// graduated from dim at the visitor's side to bright at the far side, which a flat sheet mirrors as
+// a falloff across its face; a key softbox high to the left, a cooler fill to the right, a strip
+// light above; a warm floor bounce. Dark surroundings and bright, bounded lights are what make a
+// photograph of polished metal read as metal.
+struct Light {
+  glm::dvec3 dir;     // unit, toward the light's centre
+  double cosEdge;     // cosine of its angular radius
+  double soft;        // width of its soft edge, in cosine
+  glm::dvec3 colour;  // radiance at full power
+  double power;
+  bool graduated;     // the overhead panel: power ramps up with the direction's height
+};
+
+const std::array<Light, 4>& lights() {
+  static const std::array<Light, 4> kLights = [] {
+    const glm::dvec3 warm(1.0, 0.88, 0.72), cool(0.88, 0.92, 1.0);
+    auto light = [](glm::dvec3 centre, double size, double soft, glm::dvec3 colour, double power, bool graduated) {
+      return Light{glm::normalize(centre), std::cos(size), soft, colour, power, graduated};
+    };
+    return std::array<Light, 4>{light({-0.05, 0.42, 0.90}, 0.42, 0.15, warm, 1.5, true),
+                                light({-0.55, 0.65, 0.55}, 0.30, 0.03, warm, 6.0, false),
+                                light({0.65, 0.45, 0.60}, 0.22, 0.03, cool, 2.5, false),
+                                light({0.0, 0.9, 0.45}, 0.10, 0.03, warm, 8.0, false)};
+  }();
+  return kLights;
 }
 
+glm::dvec3 environment(const glm::dvec3& d) { return studioEnvironment(d); }
 
 }  // namespace
 
-namespace {
-
-// The rough lobe: the environment around the mirror direction r, blurred by the roughness with a
-// few fixed taps (no randomness: a pixel's colour depends only on its own inputs).
-glm::dvec3 roughEnvironment(const glm::dvec3& r, double rough) {
-  const glm::dvec3 t = glm::normalize(std::abs(r.z) < 0.9 ? glm::cross(r, glm::dvec3(0, 0, 1)) : glm::cross(r, glm::dvec3(1, 0, 0)));
-  const glm::dvec3 b = glm::cross(r, t);
-  constexpr int kTaps = 7;
-  static const double kOff[kTaps][2] = {{0, 0}, {1, 0}, {-0.5, 0.866}, {-0.5, -0.866}, {0.5, 0.866}, {-1, 0}, {0.5, -0.866}};
-  glm::dvec3 spec(0.0);
-  double wsum = 0.0;
-  for (int i = 0; i < kTaps; ++i) {
-    const double w = i == 0 ? 2.0 : 1.0;
-    spec += w * environment(glm::normalize(r + 0.45 * rough * (kOff[i][0] * t + kOff[i][1] * b)));
-    wsum += w;
+glm::dvec3 studioEnvironment(const glm::dvec3& d) {
+  const double up = std::clamp(0.5 + 0.5 * d.y, 0.0, 1.0);
+  glm::dvec3 c = glm::mix(glm::dvec3(0.013, 0.011, 0.008), glm::dvec3(0.070, 0.056, 0.040), up);
+  for (const Light& l : lights()) {
+    const double k = glm::dot(d, l.dir);
+    if (k <= l.cosEdge - l.soft) continue;
+    double power = l.power;
+    if (l.graduated) {
+      const double ramp = std::clamp((d.y - 0.05) / 0.6, 0.0, 1.0);
+      power = 0.06 + l.power * ramp * ramp;
+    }
+    c += l.colour * (power * std::clamp((k - (l.cosEdge - l.soft)) / l.soft, 0.0, 1.0));
   }
-  return spec / wsum;
+  // Floor bounce from below the bench.
+  c += glm::dvec3(0.08, 0.055, 0.035) * std::clamp(-d.y, 0.0, 1.0);
+  return c;
 }
 
-// The rough environment prefiltered into an octahedral map over the sphere of directions, one
-// per roughness: a pixel then costs one bilinear lookup instead of seven environment evaluations.
-// The map is computed by fixed code, so every run and every thread sees the same bits.
-class EnvironmentMap {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Point i of n of the Hammersley set (radical inverse in base 2): fixed, so the tables below are
+// the same bits in every run.
+glm::dvec2 hammersley(unsigned i, unsigned n) {
+  unsigned b = i;
+  b = (b << 16u) | (b >> 16u);
+  b = ((b & 0x55555555u) << 1u) | ((b & 0xAAAAAAAAu) >> 1u);
+  b = ((b & 0x33333333u) << 2u) | ((b & 0xCCCCCCCCu) >> 2u);
+  b = ((b & 0x0F0F0F0Fu) << 4u) | ((b & 0xF0F0F0F0u) >> 4u);
+  b = ((b & 0x00FF00FFu) << 8u) | ((b & 0xFF00FF00u) >> 8u);
+  return {(i + 0.5) / n, b * 2.3283064365386963e-10};
+}
+
+// A GGX half vector around +z for roughness alpha (the visible normals are not needed: the tables
+// weight each sample by what it contributes).
+glm::dvec3 ggxHalfVector(const glm::dvec2& u, double alpha) {
+  const double phi = 2.0 * kPi * u.y;
+  const double cosT = std::sqrt((1.0 - u.x) / (1.0 + (alpha * alpha - 1.0) * u.x));
+  const double sinT = std::sqrt(std::max(0.0, 1.0 - cosT * cosT));
+  return {sinT * std::cos(phi), sinT * std::sin(phi), cosT};
+}
+
+// Smith's height-correlated masking-shadowing for GGX, divided by 4 NoL NoV (the "visibility").
+double ggxVisibility(double nov, double nol, double alpha) {
+  const double a2 = alpha * alpha;
+  const double gv = nol * std::sqrt(nov * nov * (1.0 - a2) + a2);
+  const double gl = nov * std::sqrt(nol * nol * (1.0 - a2) + a2);
+  return 0.5 / std::max(gv + gl, 1e-12);
+}
+
+// An orthonormal frame around unit vector d.
+void frame(const glm::dvec3& d, glm::dvec3& t, glm::dvec3& b) {
+  t = glm::normalize(std::abs(d.z) < 0.9 ? glm::cross(d, glm::dvec3(0, 0, 1)) : glm::cross(d, glm::dvec3(1, 0, 0)));
+  b = glm::cross(d, t);
+}
+
+// Octahedral maps of functions over the sphere of directions, bilinearly interpolated.
+class SphereMap {
  public:
-  static constexpr int kSize = 256;
-  explicit EnvironmentMap(double rough) : texels_(static_cast<size_t>(kSize) * kSize) {
-    for (int j = 0; j < kSize; ++j)
-      for (int i = 0; i < kSize; ++i) {
-        const glm::dvec3 d = decode((i + 0.5) / kSize * 2.0 - 1.0, (j + 0.5) / kSize * 2.0 - 1.0);
-        const glm::dvec3 c = roughEnvironment(d, rough);
-        texels_[static_cast<size_t>(j) * kSize + i] = glm::vec3(c);
-      }
+  // Rows are shared out over `pool` when one is given (each texel's arithmetic is the same).
+  template <class F>
+  SphereMap(int size, F f, ThreadPool* pool = nullptr) : size_(size), texels_(static_cast<size_t>(size) * size) {
+    auto rows = [&](const Rect& r) {
+      for (int j = r.y; j < r.y + r.h; ++j)
+        for (int i = r.x; i < r.x + r.w; ++i)
+          texels_[static_cast<size_t>(j) * size_ + i] = glm::vec3(f(decode((i + 0.5) / size_ * 2.0 - 1.0, (j + 0.5) / size_ * 2.0 - 1.0)));
+    };
+    if (pool && pool->size() > 1)
+      pool->parallelFor2D(Rect{0, 0, size_, size_}, 16, rows);
+    else
+      rows(Rect{0, 0, size_, size_});
   }
   glm::dvec3 lookup(const glm::dvec3& d) const {
-    // Octahedral encoding of a unit vector to [-1, 1]^2.
     const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
     double u = d.x / l1, v = d.y / l1;
     if (d.z < 0) {
@@ -79,12 +134,12 @@ class EnvironmentMap {
       u = (1.0 - std::abs(v)) * (ou >= 0 ? 1.0 : -1.0);
       v = (1.0 - std::abs(ou)) * (v >= 0 ? 1.0 : -1.0);
     }
-    const double fx = std::clamp((u + 1.0) * 0.5 * kSize - 0.5, 0.0, kSize - 1.0);
-    const double fy = std::clamp((v + 1.0) * 0.5 * kSize - 0.5, 0.0, kSize - 1.0);
-    const int x0 = std::min(static_cast<int>(fx), kSize - 2), y0 = std::min(static_cast<int>(fy), kSize - 2);
+    const double fx = std::clamp((u + 1.0) * 0.5 * size_ - 0.5, 0.0, size_ - 1.0);
+    const double fy = std::clamp((v + 1.0) * 0.5 * size_ - 0.5, 0.0, size_ - 1.0);
+    const int x0 = std::min(static_cast<int>(fx), size_ - 2), y0 = std::min(static_cast<int>(fy), size_ - 2);
     const double ax = fx - x0, ay = fy - y0;
-    const glm::vec3* row0 = &texels_[static_cast<size_t>(y0) * kSize + x0];
-    const glm::vec3* row1 = row0 + kSize;
+    const glm::vec3* row0 = &texels_[static_cast<size_t>(y0) * size_ + x0];
+    const glm::vec3* row1 = row0 + size_;
     const glm::dvec3 top = glm::mix(glm::dvec3(row0[0]), glm::dvec3(row0[1]), ax);
     const glm::dvec3 bottom = glm::mix(glm::dvec3(row1[0]), glm::dvec3(row1[1]), ax);
     return glm::mix(top, bottom, ay);
@@ -100,45 +155,204 @@ class EnvironmentMap {
     }
     return glm::normalize(d);
   }
+  int size_;
   std::vector<glm::vec3> texels_;
 };
 
-const EnvironmentMap& environmentMapFor(double rough) {
-  // A few metals, a few roughnesses: the maps live for the program's life.
-  thread_local double lastRough = -1.0;
-  thread_local const EnvironmentMap* last = nullptr;
-  if (last && lastRough == rough) return *last;
+// GGX half vectors around +z for roughness alpha, at fixed Hammersley points.
+std::vector<glm::dvec3> ggxHalfVectors(double alpha, unsigned count) {
+  std::vector<glm::dvec3> h(count);
+  for (unsigned i = 0; i < count; ++i) h[i] = ggxHalfVector(hammersley(i, count), alpha);
+  return h;
+}
+
+// The environment seen through a GGX lobe around the mirror direction r (split-sum prefiltering:
+// n = v = r, each light direction weighted by n.l), from the lobe's half vectors around +z.
+glm::dvec3 prefilteredEnvironment(const glm::dvec3& r, const std::vector<glm::dvec3>& halfVectors) {
+  glm::dvec3 t, b;
+  frame(r, t, b);
+  glm::dvec3 sum(0.0);
+  double wsum = 0.0;
+  for (const glm::dvec3& hl : halfVectors) {
+    const glm::dvec3 h = hl.x * t + hl.y * b + hl.z * r;
+    const glm::dvec3 l = 2.0 * glm::dot(r, h) * h - r;
+    const double nol = glm::dot(r, l);
+    if (nol <= 0) continue;
+    sum += nol * environment(l);
+    wsum += nol;
+  }
+  return wsum > 0 ? sum / wsum : environment(r);
+}
+
+// The cosine-weighted environment around n (irradiance / pi): what the light that bounces more
+// than once between the microfacets brings, spread like a diffuse lobe.
+glm::dvec3 irradiance(const glm::dvec3& n) {
+  glm::dvec3 t, b;
+  frame(n, t, b);
+  constexpr unsigned kSamples = 512;
+  glm::dvec3 sum(0.0);
+  for (unsigned i = 0; i < kSamples; ++i) {
+    const glm::dvec2 u = hammersley(i, kSamples);
+    const double r = std::sqrt(u.x), phi = 2.0 * kPi * u.y;
+    sum += environment(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u.x)) * n);
+  }
+  return sum / double(kSamples);
+}
+
+// Per metal: the directional albedo of its GGX lobe with the exact conductor Fresnel, by the
+// cosine of the view angle (the split sum's second factor), and the numbers the multiple
+// scattering compensation needs (Kulla and Conty 2017; Fdez-Aguera 2019).
+struct MetalResponse {
+  static constexpr int kBins = 64;
+  std::array<glm::dvec3, kBins + 1> single{};   // E_F(mu): single scattering with Fresnel, mu = i / kBins
+  std::array<double, kBins + 1> albedo{};       // E_1(mu): the same with Fresnel 1
+  glm::dvec3 favg{0.0};                          // hemispherical average of the Fresnel term
+
+  explicit MetalResponse(const Metal& m) {
+    const double alpha = m.roughness;
+    constexpr unsigned kSamples = 1024;
+    for (int bin = 0; bin <= kBins; ++bin) {
+      const double mu = std::max(1e-3, bin / double(kBins));
+      const glm::dvec3 v(std::sqrt(1.0 - mu * mu), 0.0, mu);
+      glm::dvec3 e(0.0);
+      double e1 = 0.0;
+      for (unsigned i = 0; i < kSamples; ++i) {
+        const glm::dvec3 h = ggxHalfVector(hammersley(i, kSamples), alpha);
+        const double voh = glm::dot(v, h);
+        const glm::dvec3 l = 2.0 * voh * h - v;
+        if (l.z <= 0 || voh <= 0) continue;
+        // pdf(l) = D noh / (4 voh); f cos = D vis F nol  =>  weight = vis F nol 4 voh / noh
+        const double w = ggxVisibility(mu, l.z, alpha) * l.z * 4.0 * voh / h.z;
+        e1 += w;
+        for (int c = 0; c < 3; ++c) e[c] += w * fresnelConductor(voh, m.eta[c], m.k[c]);
+      }
+      single[bin] = e / double(kSamples);
+      albedo[bin] = e1 / kSamples;
+    }
+    constexpr int kAvg = 256;
+    for (int i = 0; i < kAvg; ++i) {
+      const double mu = (i + 0.5) / kAvg;
+      for (int c = 0; c < 3; ++c) favg[c] += 2.0 * mu * fresnelConductor(mu, m.eta[c], m.k[c]) / kAvg;
+    }
+    double eavg = 0.0;
+    for (int bin = 0; bin < kBins; ++bin) {
+      const double mu = (bin + 0.5) / kBins;
+      eavg += 2.0 * mu * 0.5 * (albedo[bin] + albedo[bin + 1]) / kBins;
+    }
+    eavgValue = eavg;
+  }
+  double eavgValue = 1.0;  // cosine-weighted average of E_1
+
+  // Single and multiple scattering reflectance for view cosine mu, to multiply the prefiltered
+  // environment and the irradiance respectively.
+  void at(double mu, glm::dvec3& ss, glm::dvec3& ms) const {
+    const double f = std::clamp(mu, 0.0, 1.0) * kBins;
+    const int i = std::min(static_cast<int>(f), kBins - 1);
+    const double a = f - i;
+    ss = glm::mix(single[i], single[i + 1], a);
+    const double e1 = albedo[i] + (albedo[i + 1] - albedo[i]) * a;
+    // Kulla-Conty: the lobe that returns the energy single scattering loses, 1 - E_1(mu), tinted
+    // by the Fresnel term averaged over the bounces.
+    const glm::dvec3 fms = favg * favg * eavgValue / (glm::dvec3(1.0) - favg * (1.0 - eavgValue));
+    ms = fms * (1.0 - e1);
+  }
+};
+
+// The planishing hammer's dimples: a field of shallow round dents of random centres, one per cell
+// of a 1.6 mm lattice, in the sheet's plane. Returns the gradient of their depth at (x, y) for
+// dimples whose largest slope is `slope`.
+glm::dvec2 hammerGradient(double x, double y, double slope) {
+  constexpr double kCell = 1.6, kRadius = 1.25;
+  // h(d) = -A (1 - d^2/R^2)^2 for d < R: largest slope 16 A / (3 sqrt(3) R) at d = R / sqrt(3).
+  const double amp = slope * 3.0 * std::sqrt(3.0) * kRadius / 16.0;
+  const int cx = static_cast<int>(std::floor(x / kCell)), cy = static_cast<int>(std::floor(y / kCell));
+  glm::dvec2 g(0.0);
+  for (int j = cy - 1; j <= cy + 1; ++j)
+    for (int i = cx - 1; i <= cx + 1; ++i) {
+      std::uint32_t hsh = static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u;
+      hsh ^= hsh >> 15, hsh *= 0x2C1B3C6Du, hsh ^= hsh >> 12, hsh *= 0x297A2D39u, hsh ^= hsh >> 15;
+      const double fx = (i + 0.15 + 0.7 * (hsh & 0xFFFF) / 65535.0) * kCell;
+      const double fy = (j + 0.15 + 0.7 * (hsh >> 16) / 65535.0) * kCell;
+      const double dx = x - fx, dy = y - fy, u = (dx * dx + dy * dy) / (kRadius * kRadius);
+      if (u >= 1.0) continue;
+      const double k = 4.0 * amp * (1.0 - u) / (kRadius * kRadius);
+      g += glm::dvec2(k * dx, k * dy);
+    }
+  return g;
+}
+
+// Everything computed once per metal (and shared by every thread for the program's life).
+struct MetalTables {
+  MetalTables(const Metal& m, ThreadPool* pool)
+      : response(m),
+        specular(kSpecularSize,
+                 [h = ggxHalfVectors(m.roughness, 128)](const glm::dvec3& d) { return prefilteredEnvironment(d, h); }, pool) {}
+  static constexpr int kSpecularSize = 192;
+  MetalResponse response;
+  SphereMap specular;
+};
+
+const SphereMap& irradianceMap() {
+  static const SphereMap map(48, irradiance);
+  return map;
+}
+
+const MetalTables& tablesFor(const Metal& m, ThreadPool* pool = nullptr) {
+  thread_local Metal lastMetal{};
+  thread_local const MetalTables* last = nullptr;
+  if (last && lastMetal.name == m.name && lastMetal.roughness == m.roughness && lastMetal.eta == m.eta &&
+      lastMetal.k == m.k)
+    return *last;
   static std::mutex mutex;
-  static std::map<double, std::unique_ptr<EnvironmentMap>> maps;
+  static std::map<std::tuple<std::string, double, std::array<double, 3>, std::array<double, 3>>, std::unique_ptr<MetalTables>> tables;
   std::lock_guard lock(mutex);
-  auto& slot = maps[rough];
-  if (!slot) slot = std::make_unique<EnvironmentMap>(rough);
-  lastRough = rough;
+  auto& slot = tables[{std::string(m.name), m.roughness, m.eta, m.k}];
+  if (!slot) slot = std::make_unique<MetalTables>(m, pool);
+  lastMetal = m;
   last = slot.get();
   return *last;
 }
 
 }  // namespace
 
-glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& nIn, const glm::dvec3& view) {
+glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& nIn, const glm::dvec3& view,
+                      double cavity) {
   glm::dvec3 n = nIn;
   if (glm::dot(n, view) > 0) n = -n;  // seen from behind: light the face we see
+  // The hammer's dimples tilt the normal of the faces (not the rim's wall).
+  if (s.metal.hammer > 0) {
+    const glm::dvec2 g = hammerGradient(p.x, p.y, s.metal.hammer);
+    n = glm::normalize(n - glm::dvec3(g.x, g.y, 0.0) * n.z);
+  }
+  const double cosV = std::clamp(-glm::dot(view, n), 1e-4, 1.0);
   const glm::dvec3 r = glm::reflect(view, n);
-  const double cosV = std::max(1e-4, -glm::dot(view, n));
-  glm::dvec3 f0(s.metal.f0[0], s.metal.f0[1], s.metal.f0[2]);
-  // The tinge (patina) gathers in the hollows: below the front face, fading in over tingeDepth.
+  const MetalTables& t = tablesFor(s.metal);
+  glm::dvec3 ss, ms;
+  t.response.at(cosV, ss, ms);
+  // The tinge (patina) gathers in the hollows: below the front face, fading in over tingeDepth,
+  // and more in the grooves the cavity term finds.
+  glm::dvec3 tint(1.0);
   if (s.tinge.strength > 0) {
     const double depth = std::clamp((s.frontZ - p.z) / s.tingeDepth, 0.0, 1.0);
-    const double k = s.tinge.strength * (0.25 + 0.75 * depth);
-    f0 = glm::mix(f0, f0 * glm::dvec3(s.tinge.color[0], s.tinge.color[1], s.tinge.color[2]), k);
+    const double k = std::clamp(s.tinge.strength * (0.25 + 0.75 * std::max(depth, cavity)), 0.0, 1.0);
+    tint = glm::mix(glm::dvec3(1.0), glm::dvec3(s.tinge.color[0], s.tinge.color[1], s.tinge.color[2]), k);
   }
-  const double m = 1.0 - std::clamp(cosV, 0.0, 1.0);
-  const double m2 = m * m;
-  const glm::dvec3 fresnel = f0 + (glm::dvec3(1.0) - f0) * (m2 * m2 * m);
-  const glm::dvec3 spec = environmentMapFor(s.metal.roughness).lookup(r);
-  // A little diffuse from the metal's oxide skin keeps the dark side from going black.
-  const double lambert = std::max(0.0, glm::dot(n, glm::dvec3(-0.4, 0.6, 0.7) / std::sqrt(1.01)));
-  return fresnel * spec + f0 * 0.04 * (0.3 + lambert);
+  // Cavities see less of the room: the grooves' walls and the hollows under raised rims hide the
+  // lights (specular occlusion from the height field; 0 on open metal).
+  const double open = 1.0 - 0.75 * std::clamp(cavity, 0.0, 1.0);
+  const glm::dvec3 spec = t.specular.lookup(r) * ss + irradianceMap().lookup(n) * ms;
+  return tint * spec * open;
+}
+
+void prepareShading(const Metal& metal, ThreadPool* pool) {
+  tablesFor(metal, pool);
+  irradianceMap();
+}
+
+glm::dvec3 metalAlbedo(const Metal& metal, double cosView) {
+  glm::dvec3 ss, ms;
+  tablesFor(metal).response.at(cosView, ss, ms);
+  return ss + ms;
 }
 
 glm::dvec3 backdrop(int x, int y, int w, int h) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 
 #include <glm/glm.hpp>
 
@@ -17,12 +18,50 @@ struct ShadingParams {
   double tingeDepth = 0.6;  // mm below the front face where the tinge is at full strength
 };
 
-// Linear RGB of a surface point seen along `view` (unit, from the eye) with unit normal `n`.
-// Deterministic: depends on nothing but its arguments.
-glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& view);
+// Linear RGB of a surface point seen along `view` (unit, from the eye) with unit normal `n`;
+// `cavity` (0 open metal .. 1 a deep groove, from cavityAt()) hides the lights and gathers the tinge.
+// Deterministic: depends on nothing but its arguments. The first call for a metal builds its tables
+// (a prefiltered environment and the lobe's albedo, tens of milliseconds); later calls share them.
+glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& view,
+                      double cavity = 0.0);
+
+class ThreadPool;
+// Builds the metal's tables now, shared out over `pool` (else the first shadeMetal() call builds
+// them alone); Renderer::setShading() calls it. Not to be called from inside a pool job.
+void prepareShading(const Metal& metal, ThreadPool* pool);
+
+// The fraction of a white surrounding's light the metal's lobe returns toward a viewer at cosine
+// `cosView` from the normal: single scattering with the exact Fresnel term plus the multiple
+// scattering compensation. For a perfect mirror material (Fresnel 1) it is 1 at every angle.
+glm::dvec3 metalAlbedo(const Metal& metal, double cosView);
+
+// How far (x, y) lies in a cavity of the displacement D: 0 on open or convex metal, towards 1 at
+// the bottom of a groove or at the foot of a raised rim. Reads D within kCavityReach of (x, y).
+inline constexpr double kCavityReach = 1.8;  // mm
+template <class D>
+double cavityAt(double x, double y, const D& displacement);
+// Radiance of the studio the metal reflects, by direction (x right, y up the bench, z toward the
+// viewer's side of the sheet), in linear RGB: what every metal is lit by (and what the studio
+// export gives a path tracer).
+glm::dvec3 studioEnvironment(const glm::dvec3& d);
 // The backdrop (dark velvet) behind the piece, for pixel (x, y) of a w x h image.
 glm::dvec3 backdrop(int x, int y, int w, int h);
 // Linear to 8-bit sRGB with a gentle filmic shoulder so highlights do not clip harshly.
 std::array<std::uint8_t, 3> toSrgb8(const glm::dvec3& linear);
+
+template <class D>
+double cavityAt(double x, double y, const D& displacement) {
+  // D at the point against its mean on two rings (0.6 mm: a groove; kCavityReach: under a rim).
+  static constexpr double kDir[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
+                                        {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
+  const double d = displacement(x, y);
+  double near = 0.0, far = 0.0;
+  for (const auto& u : kDir) {
+    near += displacement(x + 0.6 * u[0], y + 0.6 * u[1]);
+    far += displacement(x + kCavityReach * u[0], y + kCavityReach * u[1]);
+  }
+  const double depth = (near / 6.0 - d) + 0.5 * (far / 6.0 - d);
+  return depth <= 0 ? 0.0 : depth / (depth + 0.12);  // 0.12 mm below its surroundings: half occluded
+}
 
 }  // namespace emboss

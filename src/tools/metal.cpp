@@ -1,15 +1,48 @@
 // The metal and tinge tables.
 #include "tools/metal.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace emboss {
 
+namespace {
+
+Metal makeMetal(std::string_view name, std::array<double, 3> eta, std::array<double, 3> k, double roughness,
+                double hammer, double ductility, double hardness) {
+  Metal m{name, eta, k, roughness, hammer, ductility, hardness, {}};
+  for (int c = 0; c < 3; ++c) m.f0[c] = fresnelConductor(1.0, eta[c], k[c]);
+  return m;
+}
+
+}  // namespace
+
+double fresnelConductor(double cosTheta, double eta, double k) {
+  // The exact expression for a conductor under unpolarised light (as in pbrt-v3's FrConductor).
+  const double c = std::clamp(cosTheta, 0.0, 1.0);
+  const double c2 = c * c, s2 = 1.0 - c2;
+  const double eta2 = eta * eta, k2 = k * k;
+  const double t0 = eta2 - k2 - s2;
+  const double a2b2 = std::sqrt(t0 * t0 + 4.0 * eta2 * k2);
+  const double t1 = a2b2 + c2;
+  const double a = std::sqrt(std::max(0.0, 0.5 * (a2b2 + t0)));
+  const double t2 = 2.0 * c * a;
+  const double rs = (t1 - t2) / (t1 + t2);
+  const double t3 = c2 * a2b2 + s2 * s2;
+  const double t4 = t2 * s2;
+  const double rp = rs * (t3 - t4) / (t3 + t4);
+  return 0.5 * (rp + rs);
+}
+
 const std::array<Metal, 4>& metals() {
-  // F0 values are the usual linear-sRGB reflectances of the pure metals (brass: Cu-Zn alloy).
+  // n and k at 630, 532 and 465 nm, interpolated linearly from pbrt-v4's measured tables (Cu, CuZn
+  // for brass, Ag, Al). Roughness and the hammer's slope are this project's choices for a lightly
+  // polished, planished sheet.
   static const std::array<Metal, 4> kMetals = {{
-      {"copper", {0.955, 0.638, 0.538}, 0.28, 1.00, 0.45},
-      {"brass", {0.910, 0.778, 0.423}, 0.25, 0.70, 0.75},
-      {"silver", {0.972, 0.960, 0.915}, 0.20, 0.90, 0.55},
-      {"aluminium", {0.913, 0.922, 0.924}, 0.32, 0.85, 0.35},
+      makeMetal("copper", {0.2459, 1.0723, 1.1569}, {3.3784, 2.5907, 2.4572}, 0.12, 0.045, 1.00, 0.45),
+      makeMetal("brass", {0.4450, 0.5682, 0.9470}, {3.5220, 2.5880, 1.9200}, 0.10, 0.035, 0.70, 0.75),
+      makeMetal("silver", {0.1342, 0.1297, 0.1395}, {3.9628, 3.1942, 2.6135}, 0.07, 0.030, 0.90, 0.55),
+      makeMetal("aluminium", {1.3571, 0.8843, 0.6605}, {7.5878, 6.4700, 5.6536}, 0.16, 0.050, 0.85, 0.35),
   }};
   return kMetals;
 }
