@@ -1,0 +1,323 @@
+// The mesh export's clean-up: welding equal vertices, mending slivers, and decimation by
+// meshoptimizer in tiles that cannot disagree (mesh.cpp makes the mesh, this makes it small).
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "export/mesh_internal.h"
+#include "render/thread_pool.h"
+
+namespace emboss::mesh_detail {
+
+namespace {
+struct FloatKey {
+  std::uint32_t x, y, z;
+  bool operator==(const FloatKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct FloatKeyHash {
+  size_t operator()(const FloatKey& k) const {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h ^= (h >> 29) + k.y * 0xBF58476D1CE4E5B9ull;
+    h ^= (h >> 31) + k.z * 0x94D049BB133111EBull;
+    return static_cast<size_t>(h ^ (h >> 32));
+  }
+};
+FloatKey floatKey(const std::array<float, 3>& p) {
+  FloatKey k;
+  float v[3] = {p[0] == 0.0f ? 0.0f : p[0], p[1] == 0.0f ? 0.0f : p[1], p[2] == 0.0f ? 0.0f : p[2]};  // -0 is +0
+  std::memcpy(&k.x, &v[0], 4);
+  std::memcpy(&k.y, &v[1], 4);
+  std::memcpy(&k.z, &v[2], 4);
+  return k;
+}
+
+}  // namespace
+
+// Merges vertices whose float positions are equal and drops the triangles that degenerate.
+void weldFloats(TriangleMesh& mesh) {
+  std::unordered_map<FloatKey, std::uint32_t, FloatKeyHash> seen;
+  seen.reserve(mesh.vertices.size());
+  std::vector<std::uint32_t> remap(mesh.vertices.size());
+  std::vector<std::array<float, 3>> kept;
+  kept.reserve(mesh.vertices.size());
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    auto [it, fresh] = seen.try_emplace(floatKey(mesh.vertices[v]), static_cast<std::uint32_t>(kept.size()));
+    if (fresh) kept.push_back(mesh.vertices[v]);
+    remap[v] = it->second;
+  }
+  size_t n = 0;
+  for (auto t : mesh.triangles) {
+    t = {remap[t[0]], remap[t[1]], remap[t[2]]};
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+    mesh.triangles[n++] = t;
+  }
+  mesh.triangles.resize(n);
+  mesh.vertices = std::move(kept);
+}
+
+// Keeps only the vertices some triangle uses, in first-use order.
+void compact(TriangleMesh& mesh) {
+  std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
+  std::vector<std::array<float, 3>> kept;
+  for (auto& t : mesh.triangles)
+    for (auto& v : t) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<std::uint32_t>(kept.size());
+        kept.push_back(mesh.vertices[v]);
+      }
+      v = remap[v];
+    }
+  mesh.vertices = std::move(kept);
+}
+
+float crossLength2(const float* a, const float* b, const float* c, float n[3]) {
+  const float ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+  const float vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+  n[0] = uy * vz - uz * vy;
+  n[1] = uz * vx - ux * vz;
+  n[2] = ux * vy - uy * vx;
+  return n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+}
+
+bool sliver(const float* a, const float* b, const float* c, float k) {
+  float n[3];
+  const float c2 = crossLength2(a, b, c, n);
+  auto d2 = [](const float* u, const float* v) {
+    return (v[0] - u[0]) * (v[0] - u[0]) + (v[1] - u[1]) * (v[1] - u[1]) + (v[2] - u[2]) * (v[2] - u[2]);
+  };
+  const float l2 = std::max({d2(a, b), d2(b, c), d2(c, a)});
+  return c2 <= k * k * l2 * l2;
+}
+
+// Simplifying a flat face leaves triangles whose corners are (nearly) collinear: zero area or a
+// sliver, the collapse checks see no flip in them. Each is mended by flipping its longest edge with
+// the neighbour across it, when that makes two proper triangles facing the neighbour's way and the
+// new edge is new.
+void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos) {
+  auto p = [&](unsigned int v) { return &pos[3 * v]; };
+  auto key = [](unsigned int u, unsigned int v) { return (static_cast<std::uint64_t>(u) << 32) | v; };
+  // Slivers are few: each pass finds them, then looks up only the edges it needs in one scan of the
+  // mesh (a map of every edge would cost more than the rest of the decimation).
+  for (int pass = 0; pass < 4; ++pass) {
+    struct Candidate {
+      size_t t;
+      unsigned int a, b, c;
+      size_t u = SIZE_MAX;
+      unsigned int d = 0;
+    };
+    std::vector<Candidate> cands;
+    for (size_t t = 0; t < n; t += 3) {
+      if (!sliver(p(ix[t]), p(ix[t + 1]), p(ix[t + 2]))) continue;
+      int best = 0;  // the longest edge (a, b); c lies (nearly) on it
+      float bestLen = -1.0f;
+      for (int e = 0; e < 3; ++e) {
+        const float* a = p(ix[t + e]);
+        const float* b = p(ix[t + (e + 1) % 3]);
+        const float l = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]);
+        if (l > bestLen) {
+          bestLen = l;
+          best = e;
+        }
+      }
+      cands.push_back({t, ix[t + best], ix[t + (best + 1) % 3], ix[t + (best + 2) % 3]});
+    }
+    if (cands.empty()) return;
+    // The neighbour across each longest edge.
+    std::unordered_map<std::uint64_t, size_t> wanted;
+    for (size_t i = 0; i < cands.size(); ++i) wanted[key(cands[i].b, cands[i].a)] = i;
+    for (size_t t = 0; t < n; t += 3)
+      for (int e = 0; e < 3; ++e) {
+        auto it = wanted.find(key(ix[t + e], ix[t + (e + 1) % 3]));
+        if (it == wanted.end()) continue;
+        Candidate& c = cands[it->second];
+        c.u = t;
+        c.d = ix[t + (e + 2) % 3];
+      }
+    // The new edges c-d must not exist already.
+    std::unordered_map<std::uint64_t, bool> fresh;
+    for (const Candidate& c : cands)
+      if (c.u != SIZE_MAX) fresh[key(std::min(c.c, c.d), std::max(c.c, c.d))] = true;
+    for (size_t t = 0; t < n; t += 3)
+      for (int e = 0; e < 3; ++e) {
+        const unsigned int u = ix[t + e], v = ix[t + (e + 1) % 3];
+        auto it = fresh.find(key(std::min(u, v), std::max(u, v)));
+        if (it != fresh.end()) it->second = false;
+      }
+    std::unordered_map<size_t, bool> touched;
+    bool changed = false;
+    for (const Candidate& c : cands) {
+      if (c.u == SIZE_MAX || c.d == c.c || !fresh[key(std::min(c.c, c.d), std::max(c.c, c.d))]) continue;
+      if (touched.count(c.t) || touched.count(c.u)) continue;
+      const size_t t = c.t, u = c.u;
+      const unsigned int a = c.a, b = c.b, cc = c.c, d = c.d;
+      float nu[3], n1[3], n2[3];
+      crossLength2(p(ix[u]), p(ix[u + 1]), p(ix[u + 2]), nu);
+      if (sliver(p(a), p(d), p(cc)) || sliver(p(d), p(b), p(cc))) continue;
+      crossLength2(p(a), p(d), p(cc), n1);
+      crossLength2(p(d), p(b), p(cc), n2);
+      if (n1[0] * nu[0] + n1[1] * nu[1] + n1[2] * nu[2] <= 0.0f || n2[0] * nu[0] + n2[1] * nu[1] + n2[2] * nu[2] <= 0.0f) continue;
+      ix[t] = a, ix[t + 1] = d, ix[t + 2] = cc;
+      ix[u] = d, ix[u + 1] = b, ix[u + 2] = cc;
+      touched[t] = touched[u] = true;
+      fresh[key(std::min(cc, d), std::max(cc, d))] = false;  // now it exists
+      changed = true;
+    }
+    if (!changed) return;
+  }
+}
+
+namespace {
+
+// A piece of the mesh simplified alone, its border locked; kept only when it is still a manifold
+// patch with the same border (each inner edge used once each way, no degenerate triangle).
+bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::vector<std::array<std::uint32_t, 3>>& tris,
+                   double maxError) {
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
+  std::vector<std::uint32_t> global;
+  std::vector<float> pos;
+  std::vector<unsigned int> idx;
+  idx.reserve(tris.size() * 3);
+  for (const auto& t : tris)
+    for (std::uint32_t v : t) {
+      auto [it, fresh] = local.try_emplace(v, static_cast<std::uint32_t>(global.size()));
+      if (fresh) {
+        global.push_back(v);
+        pos.insert(pos.end(), allVertices[v].begin(), allVertices[v].end());
+      }
+      idx.push_back(it->second);
+    }
+  float lo[3] = {pos[0], pos[1], pos[2]}, hi[3] = {pos[0], pos[1], pos[2]};
+  for (size_t v = 0; v < global.size(); ++v)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], pos[3 * v + a]);
+      hi[a] = std::max(hi[a], pos[3 * v + a]);
+    }
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (extent <= 0.0) return false;
+  // Directed edges, sorted (a sort beats a hash map here): a repeat is a neighbour equal to it, a
+  // border edge one whose reverse is missing.
+  auto edgesOf = [](const unsigned int* ix, size_t n) {
+    std::vector<std::uint64_t> e(n);
+    for (size_t t = 0; t < n; t += 3)
+      for (int k = 0; k < 3; ++k) e[t + k] = (static_cast<std::uint64_t>(ix[t + k]) << 32) | ix[t + (k + 1) % 3];
+    std::sort(e.begin(), e.end());
+    return e;
+  };
+  auto border = [](const std::vector<std::uint64_t>& sorted) {
+    std::vector<std::uint64_t> b;
+    for (std::uint64_t key : sorted)
+      if (!std::binary_search(sorted.begin(), sorted.end(), (key << 32) | (key >> 32))) b.push_back(key);
+    return b;
+  };
+  const auto originalBorder = border(edgesOf(idx.data(), idx.size()));
+  std::vector<unsigned int> out(idx.size());
+  for (double error : {maxError, 0.25 * maxError}) {
+    const size_t n = meshopt_simplify(out.data(), idx.data(), idx.size(), pos.data(), global.size(), sizeof(float) * 3, 0,
+                                      static_cast<float>(error / extent), meshopt_SimplifyLockBorder, nullptr);
+    if (n == idx.size()) return false;  // nothing to gain
+    mendFlatTriangles(out, n, pos);
+    bool ok = true;
+    for (size_t t = 0; t < n && ok; t += 3) {
+      const float* a = &pos[3 * out[t]];
+      const float* b = &pos[3 * out[t + 1]];
+      const float* c = &pos[3 * out[t + 2]];
+      float n[3];
+      ok = out[t] != out[t + 1] && out[t + 1] != out[t + 2] && out[t] != out[t + 2] && crossLength2(a, b, c, n) != 0.0f &&
+           !sliver(a, b, c, 0.1f * kSliver);  // a tile is not refused for what the last pass mends
+    }
+    if (!ok) continue;
+    const auto after = edgesOf(out.data(), n);
+    ok = std::adjacent_find(after.begin(), after.end()) == after.end();
+    if (!ok || border(after) != originalBorder) continue;
+    tris.resize(n / 3);
+    for (size_t t = 0; t < n / 3; ++t) tris[t] = {global[out[3 * t]], global[out[3 * t + 1]], global[out[3 * t + 2]]};
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+// Decimates tile by tile (squares in the plate's plane, each triangle in the tile of its
+// centroid), in parallel. In each tile the triangles touching a vertex that another tile uses, or
+// that an earlier round settled, stay as they are (a ring along the tile's edge); the rest is
+// simplified with its border locked, so no new edge ends at a shared vertex and tiles cannot
+// disagree. A tile whose result fails the patch check, and the rings, go round again in tiles half
+// the size. Returns the number of tiles that failed in the last round.
+size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& pool) {
+  std::vector<std::array<std::uint32_t, 3>> todo = std::move(mesh.triangles), done;
+  std::vector<std::uint8_t> settled(mesh.vertices.size(), 0);
+  size_t failed = 0;
+  for (int round = 0; round < 4 && !todo.empty(); ++round, tile *= 0.5) {
+    float lo[2] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+    float hi[2] = {-lo[0], -lo[1]};
+    for (const auto& t : todo)
+      for (std::uint32_t v : t)
+        for (int a = 0; a < 2; ++a) {
+          lo[a] = std::min(lo[a], mesh.vertices[v][a]);
+          hi[a] = std::max(hi[a], mesh.vertices[v][a]);
+        }
+    const int tx = std::max(1, static_cast<int>(std::ceil((hi[0] - lo[0]) / tile)));
+    const int ty = std::max(1, static_cast<int>(std::ceil((hi[1] - lo[1]) / tile)));
+    std::vector<std::vector<std::array<std::uint32_t, 3>>> tiles(static_cast<size_t>(tx) * ty);
+    for (const auto& t : todo) {
+      const float cx = (mesh.vertices[t[0]][0] + mesh.vertices[t[1]][0] + mesh.vertices[t[2]][0]) / 3.0f;
+      const float cy = (mesh.vertices[t[0]][1] + mesh.vertices[t[1]][1] + mesh.vertices[t[2]][1]) / 3.0f;
+      const int i = std::clamp(static_cast<int>((cx - lo[0]) / tile), 0, tx - 1);
+      const int j = std::clamp(static_cast<int>((cy - lo[1]) / tile), 0, ty - 1);
+      tiles[static_cast<size_t>(j) * tx + i].push_back(t);
+    }
+    todo.clear();
+    std::vector<std::uint32_t> owner(mesh.vertices.size(), UINT32_MAX);
+    std::vector<std::uint8_t> shared = settled;
+    for (size_t k = 0; k < tiles.size(); ++k)
+      for (const auto& t : tiles[k])
+        for (std::uint32_t v : t) {
+          if (owner[v] == UINT32_MAX) owner[v] = static_cast<std::uint32_t>(k);
+          else if (owner[v] != k) shared[v] = 1;
+        }
+    for (auto& tris : tiles) {
+      size_t n = 0;
+      for (const auto& t : tris) {
+        if (shared[t[0]] || shared[t[1]] || shared[t[2]]) todo.push_back(t);  // the ring: next round
+        else tris[n++] = t;
+      }
+      tris.resize(n);
+    }
+    std::vector<std::uint8_t> ok(tiles.size(), 0);
+    pool.parallelFor2D(Rect{0, 0, tx, ty}, 1, [&](const Rect& r) {
+      for (int j = r.y; j < r.y + r.h; ++j)
+        for (int i = r.x; i < r.x + r.w; ++i) {
+          const size_t k = static_cast<size_t>(j) * tx + i;
+          if (!tiles[k].empty()) ok[k] = simplifyPatch(mesh.vertices, tiles[k], maxError);
+        }
+    });
+    failed = 0;
+    for (size_t k = 0; k < tiles.size(); ++k) {
+      if (tiles[k].empty()) continue;
+      if (ok[k]) {
+        for (const auto& t : tiles[k]) {
+          done.push_back(t);
+          for (std::uint32_t v : t) settled[v] = 1;
+        }
+      } else {
+        ++failed;
+        todo.insert(todo.end(), tiles[k].begin(), tiles[k].end());
+      }
+    }
+  }
+  mesh.triangles = std::move(done);
+  mesh.triangles.insert(mesh.triangles.end(), todo.begin(), todo.end());
+  compact(mesh);
+  return failed;
+}
+
+
+}  // namespace emboss::mesh_detail

@@ -1,0 +1,35 @@
+// Between the mesh export's two files: what mesh.cpp (extraction, checks) and mesh_decimate.cpp
+// (welding, mending, decimation) share. Not for other callers.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "export/mesh.h"
+
+namespace emboss {
+
+class ThreadPool;
+
+namespace mesh_detail {
+
+// A sliver: |cross| <= kSliver * (longest edge)^2, i.e. its smallest angle under about 1e-4 rad.
+// Its normal is lost in float rounding (readers such as admesh then recompute it).
+inline constexpr float kSliver = 1e-4f;
+
+// Merges vertices whose float positions are equal and drops the triangles that degenerate.
+void weldFloats(TriangleMesh& mesh);
+// Keeps only the vertices some triangle uses, in first-use order.
+void compact(TriangleMesh& mesh);
+// |(b - a) x (c - a)|^2, the cross product itself in n.
+float crossLength2(const float* a, const float* b, const float* c, float n[3]);
+bool sliver(const float* a, const float* b, const float* c, float k = kSliver);
+// Flips the longest edge of each zero-area or sliver triangle among the first n indices (3 a
+// triangle) with its neighbour's, where that makes two proper triangles.
+void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos);
+// Decimates within maxError tile by tile (tile: the first tiles' side, mm) on the pool; returns
+// how many tiles failed their check in the last round (left fine).
+size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& pool);
+
+}  // namespace mesh_detail
+}  // namespace emboss
