@@ -20,6 +20,12 @@ double strokeSeconds(const Operation& op) {
     case OpKind::Punch: return 0.06;
     case OpKind::Press: return 0.08;
     case OpKind::Region: return 0.7;
+    case OpKind::Patina: {
+      double len = 0;
+      for (size_t i = 1; i < op.points.size(); ++i)
+        len += std::hypot(op.points[i].x - op.points[i - 1].x, op.points[i].y - op.points[i - 1].y);
+      return 0.2 + len / 60.0;  // a brush moves ~60 mm/s
+    }
     default: return 0.09;
   }
 }

@@ -74,6 +74,15 @@ void toolIcon(Overlay& o, const ToolSpec& t, double cx, double cy, double r) {
       disc(o, cx, cy, 26 * k, alpha(kInk, 0.35f));
       o.rings.push_back({float(cx), float(cy), float(30 * k), float(4 * k), kInk});
       break;
+    case ToolKind::PatinaBrush: {  // a brush stroke of the tinge's colour
+      const auto& c = tinges()[static_cast<size_t>(std::clamp(t.tinge, 1, 4))].color;
+      const OverlayColor ink{float(std::sqrt(c[0])), float(std::sqrt(c[1])), float(std::sqrt(c[2])), 0.95f};
+      for (int i = 0; i <= 24; ++i) {
+        const double u = i / 24.0;
+        disc(o, cx + (u - 0.5) * 66 * k, cy + std::sin(u * M_PI) * -14 * k + 7 * k, (9.0 - 4.0 * u) * k, ink);
+      }
+      break;
+    }
     case ToolKind::BlendPunch:  // material added: two discs merging
       disc(o, cx - 10 * k, cy, 18 * k, alpha(kInk, 0.9f));
       disc(o, cx + 12 * k, cy, 14 * k, alpha(kInk, 0.9f));

@@ -34,6 +34,7 @@ bool sameOperation(const Operation& a, const Operation& b) {
     case OpKind::Subtract: return same(a.tool, b.tool);
     case OpKind::BlendUnion:
     case OpKind::BlendSubtract: return same(a.tool, b.tool) && a.a1 == b.a1 && a.a2 == b.a2 && a.a3 == b.a3;
+    case OpKind::Patina: return a.tinge == b.tinge && a.a == b.a && a.strength == b.strength && same(a.points, b.points);
   }
   return false;
 }
@@ -49,7 +50,8 @@ void StrokeBuilder::begin(const ToolSpec& tool, const Metal& metal) {
 
 size_t StrokeBuilder::settled(size_t count) const {
   switch (tool_.kind) {
-    case ToolKind::RegionRaiser: return 0;
+    case ToolKind::RegionRaiser:
+    case ToolKind::PatinaBrush: return 0;
     case ToolKind::OvalPunch: return count >= 2 ? count - 2 : 0;
     default: return count >= 1 ? count - 1 : 0;
   }
@@ -60,7 +62,7 @@ std::vector<Operation> StrokeBuilder::add(const StrokePoint& p) {
   if (!active_) return out;
   if (!points_.empty()) sinceLast_ += std::hypot(p.x - points_.back().x, p.y - points_.back().y);
   points_.push_back(p);
-  if (tool_.kind == ToolKind::RegionRaiser) return out;
+  if (tool_.kind == ToolKind::RegionRaiser || tool_.kind == ToolKind::PatinaBrush) return out;
   // Recomputing the whole stroke costs O(points); doing it only every quarter millimetre keeps
   // long strokes cheap without delaying a strike by more than that.
   if (points_.size() > 1 && sinceLast_ < 0.25) return out;

@@ -1,6 +1,8 @@
 // Writing the model as POV-Ray functions: one helper per kernel, one stage per set operation.
 #include "export/pov.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -34,6 +36,7 @@ const char* kHelpers = R"(// Kernels of the embossing model (docs/kernels.md), s
 #declare Emboss_Region = function(Inside, T2, H, L) { select(Inside - 0.5, H * L * L / (T2 + L * L) * Emboss_Taper(sqrt(T2) / L), H) }
 #declare Emboss_JoinS = function(S) { S * S * S * (10 + S * (-15 + 6 * S)) }
 #declare Emboss_Join = function(U) { Emboss_JoinS(min(max(0.5 * (U + 1), 0), 1)) }
+#declare Emboss_Brush = function(D2, R, S) { S * pow(max(1 - pow(D2 / (R * R), 2), 0), 2) }
 #declare Emboss_Mix = function(F, R, W) { select(W - 1, F + W * (R - F), R) }
 #declare Emboss_BU = function(F, G, A1, A2, A3) { F + G + sqrt(F * F + G * G) + A1 / (1 + pow(F / A2, 2) + pow(G / A3, 2)) }
 #declare Emboss_BS = function(F, G, A1, A2, A3) { F - G - sqrt(F * F + G * G) + A1 / (1 + pow(F / A2, 2) + pow(G / A3, 2)) }
@@ -216,9 +219,16 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
     out << "#declare Emboss_Run" << run << " = function(x, y, z) { 0" << runTerms << " }\n";
     runTerms.clear();
   };
+  // The patina brush's strokes, by tinge: 1 - prod(1 - brush) of each tinge's strokes (as the renderer).
+  std::array<std::string, 5> patina;
   for (size_t i = 0; i < model.activeCount(); ++i) {
     const PreparedOp& prep = ops[i];
     const Operation& o = prep.op();
+    if (o.isPatina()) {
+      auto& f = patina[static_cast<size_t>(std::clamp(o.tinge, 1, 4))];
+      f += "\n  * (1 - Emboss_Brush(" + polylineD2(o.points, false) + ", " + num(o.a) + ", " + num(o.strength) + "))";
+      continue;
+    }
     if (o.isOffset()) {
       runTerms += "\n  " + offsetTerm(prep, def);
       continue;
@@ -265,7 +275,18 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
   out << "#declare Emboss_Object = isosurface {\n  function { -Emboss_Function(x, y, -z) }\n  threshold 0\n"
       << "  contained_by { box { <" << num(b.x0 - pad) << ", " << num(b.y0 - pad) << ", " << num(-b.z1 - pad) << ">, <" << num(b.x1 + pad)
       << ", " << num(b.y1 + pad) << ", " << num(-b.z0 + pad) << "> } }\n"
-      << "  max_gradient " << num(maxGrad * 1.5) << "\n  accuracy 0.0005\n  texture { Emboss_Metal }\n}\n";
+      << "  max_gradient " << num(maxGrad * 1.5) << "\n  accuracy 0.0005\n  texture { Emboss_Metal }\n";
+  // Each tinge of the brush as a layer that filters what is under it by the tinge's colour, as much
+  // as the brush left there (the renderer also lets it settle into the hollows; POV-Ray does not).
+  for (size_t t = 1; t < patina.size(); ++t) {
+    if (patina[t].empty()) continue;
+    const Tinge& tg = tinges()[t];
+    out << "  texture {\n    pigment { function { 1 - (1" << patina[t] << ") }\n"
+        << "      color_map { [0 rgbf <1, 1, 1, 1>] [1 rgbf <" << num(1 + (tg.color[0] - 1) * tg.strength) << ", "
+        << num(1 + (tg.color[1] - 1) * tg.strength) << ", " << num(1 + (tg.color[2] - 1) * tg.strength) << ", 1>] } }\n"
+        << "    finish { ambient 0 emission 0 diffuse 0 specular 0 }\n  }\n";
+  }
+  out << "}\n";
 
   // Camera, lights and the object, unless the includer only wants the declarations.
   const CameraSpec& c = scene.camera;

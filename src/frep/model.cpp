@@ -75,7 +75,7 @@ T Model::evaluateWith(const P3<T>& p, const Indices& indices) const {
       const PreparedOp& op = ops_[i];
       if (op.op().isOffset())
         f += op.offset(p, Deformation::Offset);
-      else
+      else if (op.op().isSet())
         f = op.combine(f, p);
     }
     return f;
@@ -91,7 +91,7 @@ T Model::evaluateWith(const P3<T>& p, const Indices& indices) const {
     const PreparedOp& op = ops_[i];
     if (op.op().isOffset()) {
       total += op.offset(p, Deformation::Sheet);
-    } else {
+    } else if (op.op().isSet()) {
       prefix.push_back(total);
       anySet = true;
     }
@@ -101,7 +101,7 @@ T Model::evaluateWith(const P3<T>& p, const Indices& indices) const {
   size_t k = 0;
   for (std::uint32_t i : indices) {
     const PreparedOp& op = ops_[i];
-    if (op.op().isOffset()) continue;
+    if (!op.op().isSet()) continue;
     const T shift = total - prefix[k++];
     f = op.combine(f, P3<T>{p.x, p.y, p.z - shift});
   }
@@ -152,6 +152,7 @@ Box3 Model::bounds() const {
       case OpKind::Punch: reach += std::abs(o.p) * o.a; break;
       case OpKind::Press: reach += std::abs(o.p) * o.a * (4.0 * M_PI + 1.0); break;  // a comb at L/4 sums to ~4 pi peaks
       case OpKind::Region: reach += std::abs(o.height); break;
+      case OpKind::Patina: break;  // colours, moves nothing
       default: {
         const Box3 t = o.tool.bounds();
         const double g = kernels::kSupportSpan * o.tool.size();

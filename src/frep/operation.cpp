@@ -116,6 +116,7 @@ double ToolShape::size() const {
 double Operation::characteristicLength() const {
   switch (kind) {
     case OpKind::Trace:
+    case OpKind::Patina:
       return a;
     case OpKind::Punch:
     case OpKind::Press:
@@ -136,6 +137,7 @@ const char* opKindName(OpKind k) {
     case OpKind::BlendUnion: return "blend_union";
     case OpKind::Subtract: return "subtract";
     case OpKind::BlendSubtract: return "blend_subtract";
+    case OpKind::Patina: return "patina";
   }
   return "?";
 }
@@ -215,6 +217,12 @@ std::string validate(const Operation& op) {
           check("points: the path needs " + shortNumber(punches) + " punches at a spacing of " + shortNumber(spacing) +
                 " mm, at most " + shortNumber(kMaxPathPoints));
       }
+      break;
+    case OpKind::Patina:
+      check(length("r", op.a));
+      if (op.points.empty()) return "points: a patina stroke needs at least one point";
+      if (op.tinge < 1 || op.tinge > 4) check("tinge: must be black, brown, green or golden");
+      check(outOfRange("strength", op.strength, 0.0, 1.0, ""));
       break;
     case OpKind::Region:
       if (op.points.size() < 3) return "contour: a region needs a closed contour of at least 3 points";
@@ -305,6 +313,12 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
       for (const auto& pt : op_.points) support_.extend(pt.x, pt.y);
       support_ = support_.grown(reach);
       maxSlope_ = std::abs(op_.height) / L * (kAgnesiMaxSlope + kTaperSlopeFactor);
+      break;
+    }
+    case OpKind::Patina: {
+      for (const auto& pt : op_.points) support_.extend(pt.x, pt.y);
+      support_ = support_.grown(op_.a);  // the brush leaves nothing beyond its radius
+      maxSlope_ = 0.0;  // moves nothing
       break;
     }
     default: {
@@ -421,6 +435,14 @@ T PreparedOp::combine(const T& f, const P3<T>& p) const {
     if (wv <= 0.0) return f;
   }
   return f + w * (result - f);
+}
+
+double PreparedOp::patinaAt(double x, double y) const {
+  if (op_.kind != OpKind::Patina || !support_.contains(x, y)) return 0.0;
+  const double d2 = polylineDistance2(x, y, op_.points, false);
+  const double u = d2 / (op_.a * op_.a);
+  if (u >= 1.0) return 0.0;
+  return op_.strength * (1.0 - u * u) * (1.0 - u * u);
 }
 
 template double ToolShape::value(const P3<double>&) const;

@@ -19,7 +19,7 @@ enum class Deformation { Sheet, Offset };
 // Which face the tool works from. Back raises the metal toward the viewer (+z), front lowers it.
 enum class Side { Front, Back };
 
-enum class OpKind { Trace, Punch, Press, Region, BlendUnion, Subtract, BlendSubtract };
+enum class OpKind { Trace, Punch, Press, Region, BlendUnion, Subtract, BlendSubtract, Patina };
 
 struct Vec2 {
   double x = 0, y = 0;
@@ -73,12 +73,19 @@ struct Operation {
   double falloff = 2.0;      // region: the characteristic length of the descent outside (mm)
   ToolShape tool;            // blend_union, subtract, blend_subtract
   double a1 = 0.0, a2 = 1.0, a3 = 1.0;
+  // patina: the tinge (an index into tinges(), 1..4: black, brown, green, golden), the brush's
+  // strength (0..1) and its radius in `a`; the path in `points`. Colours the metal, moves nothing.
+  int tinge = 1;
+  double strength = 1.0;
 
+  bool isPatina() const { return kind == OpKind::Patina; }
+  // A set operation (4): combines f with a tool's f_tool.
+  bool isSet() const { return kind == OpKind::BlendUnion || kind == OpKind::Subtract || kind == OpKind::BlendSubtract; }
   bool isOffset() const { return kind == OpKind::Trace || kind == OpKind::Punch || kind == OpKind::Press || kind == OpKind::Region; }
   // +1 where the operation raises toward the viewer (from behind), -1 where it lowers.
   double sign() const { return side == Side::Back ? 1.0 : -1.0; }
-  // The characteristic length L: a for tracers, a / sqrt(q) for punches, falloff for regions, the
-  // tool's size for set operations. Exact within 3 L of the tool, zero beyond 4 L.
+  // The characteristic length L: a for tracers and the patina brush, a / sqrt(q) for punches,
+  // falloff for regions, the tool's size for set operations. Exact within 3 L of the tool, zero beyond 4 L.
   double characteristicLength() const;
 };
 
@@ -97,6 +104,10 @@ class PreparedOp {
   // The set operation applied to f at p. Set kinds only.
   template <class T>
   T combine(const T& f, const P3<T>& p) const;
+  // Patina only: how much of its tinge the brush leaves at (x, y), 0..strength: a soft round brush
+  // of radius a along the path, (1 - (d/a)^4)^2 at distance d from it (full in the middle, a soft
+  // rim, nothing beyond a).
+  double patinaAt(double x, double y) const;
   // Press only: where the program placed the punches along the path.
   const std::vector<Vec3>& pressPoints() const { return pressPoints_; }
   // op().characteristicLength(), worked out once (evaluation needs it at every point).

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "util/portable_math.h"
+
 namespace emboss::art {
 
 namespace {
@@ -34,7 +36,7 @@ Path resampleEvery(const Path& p, double step) {
   double carry = 0;
   for (size_t i = 1; i < p.size(); ++i) {
     const Vec2 a = p[i - 1], b = p[i];
-    const double seg = std::hypot(b.x - a.x, b.y - a.y);
+    const double seg = portableHypot(b.x - a.x, b.y - a.y);
     double s = step - carry;
     while (s <= seg) {
       out.push_back({a.x + (b.x - a.x) * s / seg, a.y + (b.y - a.y) * s / seg});
@@ -42,7 +44,7 @@ Path resampleEvery(const Path& p, double step) {
     }
     carry = seg - (s - step);
   }
-  if (std::hypot(out.back().x - p.back().x, out.back().y - p.back().y) > 1e-9) out.push_back(p.back());
+  if (portableHypot(out.back().x - p.back().x, out.back().y - p.back().y) > 1e-9) out.push_back(p.back());
   return out;
 }
 
@@ -68,7 +70,7 @@ Path arc(Vec2 c, double r, double fromDeg, double toDeg, double step) {
   const int n = std::max(2, static_cast<int>(std::ceil(len / step)));
   for (int i = 0; i <= n; ++i) {
     const double a = (fromDeg + (toDeg - fromDeg) * i / n) * kDeg;
-    p.push_back({c.x + r * std::cos(a), c.y + r * std::sin(a)});
+    p.push_back({c.x + r * portableCos(a), c.y + r * portableSin(a)});
   }
   return p;
 }
@@ -76,7 +78,7 @@ Path arc(Vec2 c, double r, double fromDeg, double toDeg, double step) {
 Path circle(Vec2 c, double r, double step) { return arc(c, r, 0, 360, step); }
 
 Path transform(const Path& p, double scale, double rotateDeg, Vec2 move) {
-  const double cs = std::cos(rotateDeg * kDeg), sn = std::sin(rotateDeg * kDeg);
+  const double cs = portableCos(rotateDeg * kDeg), sn = portableSin(rotateDeg * kDeg);
   Path out;
   out.reserve(p.size());
   for (const auto& q : p) out.push_back({move.x + scale * (q.x * cs - q.y * sn), move.y + scale * (q.x * sn + q.y * cs)});
@@ -91,7 +93,7 @@ Path mirrorX(const Path& p) {
 
 double length(const Path& p) {
   double l = 0;
-  for (size_t i = 1; i < p.size(); ++i) l += std::hypot(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y);
+  for (size_t i = 1; i < p.size(); ++i) l += portableHypot(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y);
   return l;
 }
 
@@ -112,7 +114,7 @@ Path offsetContour(const Path& c, double d) {
   for (size_t i = 0; i < n; ++i) {
     const Vec2 a = c[(i + n - 1) % n], b = c[(i + 1) % n];
     double tx = b.x - a.x, ty = b.y - a.y;
-    const double l = std::hypot(tx, ty);
+    const double l = portableHypot(tx, ty);
     if (l < 1e-12) {
       out.push_back(c[i]);
       continue;

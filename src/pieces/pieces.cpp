@@ -5,6 +5,7 @@
 
 #include "frep/workpieces.h"
 #include "pieces/piece_art.h"
+#include "util/portable_math.h"
 
 namespace emboss {
 
@@ -15,7 +16,7 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-Vec2 polar(double r, double deg) { return {r * std::cos(deg * kDeg), r * std::sin(deg * kDeg)}; }
+Vec2 polar(double r, double deg) { return {r * portableCos(deg * kDeg), r * portableSin(deg * kDeg)}; }
 
 Scene makeScene(std::shared_ptr<const Workpiece> wp, const std::string& metal, const std::string& tinge,
                 const std::string& title, const Chaser& c) {
@@ -35,7 +36,7 @@ Scene makeScene(std::shared_ptr<const Workpiece> wp, const std::string& metal, c
 void beadCircle(Chaser& c, Vec2 centre, double r, double pitch, double size, double pressure) {
   const ToolSpec t = Chaser::tool("Small punch", size);
   const int n = static_cast<int>(std::round(2 * M_PI * r / pitch));
-  for (int i = 0; i < n; ++i) c.strike(t, {centre.x + r * std::cos(2 * M_PI * i / n), centre.y + r * std::sin(2 * M_PI * i / n)}, pressure);
+  for (int i = 0; i < n; ++i) c.strike(t, {centre.x + r * portableCos(2 * M_PI * i / n), centre.y + r * portableSin(2 * M_PI * i / n)}, pressure);
 }
 
 void beadPath(Chaser& c, const Path& p, double pitch, double size, double pressure) {
@@ -89,6 +90,8 @@ Scene rosettePiece() {
   std::vector<Path> bandHoles = gadroons;
   bandHoles.push_back(art::circle({0, 0}, 31.6, 1.0));
   c.matte(band, bandHoles, 1.8, 0.5, 0.5, 12);
+  // 5. Patina: a brown tinge brushed round the matted ring, darkest in its dents.
+  c.stroke(Chaser::tool("Brown patina", 9.0), art::circle({0, 0}, 37.8, 1.0), 0.7);
   return makeScene(std::make_shared<Disc>(50.0, 0.5), "brass", "none", "Rosette medallion", c);
 }
 
@@ -101,8 +104,8 @@ Scene shellPiece() {
   const double a0 = 28, a1 = 152;  // the fan, degrees
   auto rim = [&](double deg) {  // the rim's radius: a scallop per rib
     const double u = (deg - a0) / (a1 - a0) * ribs;
-    const double lobe = std::sqrt(std::max(0.0, 1.0 - std::pow(2 * (u - std::floor(u)) - 1, 2)));
-    return 44.0 - 6.0 * std::pow((deg - 90) / 62.0, 2) + 2.2 * lobe;
+    const double lobe = std::sqrt(std::max(0.0, 1.0 - (2 * (u - std::floor(u)) - 1) * (2 * (u - std::floor(u)) - 1)));
+    return 44.0 - 6.0 * ((deg - 90) / 62.0) * ((deg - 90) / 62.0) + 2.2 * lobe;
   };
   Path outline;
   for (double d = a0; d <= a1 + 1e-9; d += 0.5) {
@@ -154,6 +157,9 @@ Scene shellPiece() {
   c.stroke(Chaser::tool("Wide tracer"), rect(-46, -36, 46, 36), 0.6);
   beadPath(c, rect(-43.5, -33.5, 43.5, 33.5), 3.0, 2.4, 0.65);
   c.matte(rect(-41.5, -31.5, 41.5, 31.5), {outline}, 1.9, 1.0, 0.5, 21);
+  // 5. Patina: verdigris rubbed into the matted corners, where a shell on a rock would green.
+  for (const Vec2 k : {Vec2{-36, 26}, Vec2{36, 26}, Vec2{-36, -26}, Vec2{36, -26}})
+    c.stroke(Chaser::tool("Green patina", 10.0), art::circle(k, 2.5, 1.0), 0.55);
   return makeScene(std::make_shared<Plate>(50.0, 40.0, 0.5), "copper", "none", "Scallop shell", c);
 }
 
@@ -262,6 +268,9 @@ Scene horsePiece() {
   std::vector<Path> keep = {horse, farFore, farHind, tail, mane, art::circle(sun, 12, 1.0)};
   for (const Vec2 s : stars) keep.push_back(art::circle(s, 4.2, 1.0));
   c.matte(rect(-51.5, -29.5, 51.5, 33.5), keep, 1.9, 0.9, 0.5, 31);
+  // 9. Patina: the sun gilded with a golden tinge.
+  c.stroke(Chaser::tool("Golden patina", 8.0), art::circle(sun, 4.0, 1.0), 0.8);
+  c.stroke(Chaser::tool("Golden patina", 6.0), art::circle(sun, 8.5, 1.0), 0.6);
   return makeScene(std::make_shared<Plate>(60.0, 40.0, 0.5), "silver", "black", "Horse, after Georgian chased silver", c);
 }
 

@@ -131,7 +131,20 @@ glm::dvec3 Renderer::sample(double sx, double sy, bool field, RenderStats& st, s
       return field_.value(std::clamp(x, dom.x0, dom.x1), std::clamp(y, dom.y0, dom.y1));
     });
   }
-  return shadeMetal(shading_, hit->p, hit->n, hit->dir, cavity);
+  Patina patina{};
+  if (hasPatina_) {
+    // The strokes of each tinge build up: 1 - prod(1 - amount), in any order.
+    std::array<double, 5> bare{1.0, 1.0, 1.0, 1.0, 1.0};
+    const size_t active = model_->activeCount();
+    for (std::uint32_t j : grid_.at(hit->p.x, hit->p.y, scratch)) {
+      if (j >= active) continue;
+      const PreparedOp& op = model_->operations()[j];
+      if (!op.op().isPatina()) continue;
+      bare[static_cast<size_t>(op.op().tinge)] *= 1.0 - op.patinaAt(hit->p.x, hit->p.y);
+    }
+    for (size_t t = 1; t < bare.size(); ++t) patina.amount[t] = 1.0 - bare[t];
+  }
+  return shadeMetal(shading_, hit->p, hit->n, hit->dir, cavity, hasPatina_ ? &patina : nullptr);
 }
 
 bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, const std::atomic_bool* cancel) {
@@ -196,7 +209,7 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
         const size_t i = at(x, y);
         const float b = brightness(centre[i]);
         bool edge = false;
-        for (const auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+        for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
           const int nx = x + dx, ny = y + dy;
           if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
           const size_t j = at(nx, ny);
@@ -281,7 +294,7 @@ Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {
     Box3 box{0, 0, wb.z0 - reach - g, 0, 0, wb.z1 + reach + g};
     for (size_t i = 0; i < n; ++i) {
       const Operation& o = ops[i].op();
-      if (o.isOffset()) continue;
+      if (!o.isSet()) continue;
       const Box3 t = o.tool.bounds();
       const double r = kernels::kSupportSpan * o.tool.size() + reach + g;
       box.z0 = std::min(box.z0, t.z0 - r), box.z1 = std::max(box.z1, t.z1 + r);
@@ -294,7 +307,7 @@ Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {
   // The field tracer. A pixel's result depends on the signs of f at its ray's grid points, on f
   // within the cell of its hit, and on the field's stencil and the set operations at the hit.
   const double cell = step_ + 1e-6;
-  if (!op.op().isOffset()) {
+  if (op.op().isSet()) {
     // A set operation changes f only within its 3D support, moved by the offsets after it.
     double shift = 0.0;
     for (std::uint32_t j : grid_.in(op.support(), scratch))
@@ -305,7 +318,8 @@ Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {
     return projectBox({s.x0, s.y0, t.z0 - r, s.x1, s.y1, t.z1 + r});
   }
   // An offset changes the samples under its support, and through the Hermite stencil (the
-  // twists read the neighbours' slopes) the patches up to two samples further.
+  // twists read the neighbours' slopes) the patches up to two samples further. A patina stroke
+  // changes the colour of the hits under its support only (its peak is 0): the same box serves.
   // The shading reads D within kCavityReach of a hit (the cavity term).
   const Box2 s = op.support().grown(2.0 * field_.spacing() + cell + kCavityReach);
   const double peak = peakOf(op.op());

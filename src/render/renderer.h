@@ -159,6 +159,7 @@ class Renderer {
   // The field tracer's state.
   HeightField field_;
   bool fieldReady_ = false;
+  bool hasPatina_ = false;  // an active patina stroke: the shading looks them up at each hit
   std::shared_ptr<const Workpiece> fieldWorkpiece_;  // held: its address is never another workpiece's
   std::vector<std::uint64_t> fieldIds_;  // ids of the operations summed into the field, by index
   std::vector<Box2> fieldSupports_;      // their supports

@@ -31,6 +31,8 @@ void Renderer::sync(const Model& model) {
     fieldSupports_.clear();
   }
   syncSetOps(model);
+  hasPatina_ = false;
+  for (size_t i = 0; i < model.activeCount() && !hasPatina_; ++i) hasPatina_ = model.operations()[i].op().isPatina();
 }
 
 void Renderer::rebuildField(const Model& model) {
@@ -235,7 +237,7 @@ void Renderer::syncSetOps(const Model& model) {
   };
   for (size_t i = 0; i < active; ++i) {
     const PreparedOp& op = ops[i];
-    if (op.op().isOffset()) continue;
+    if (!op.op().isSet()) continue;
     SetOp s;
     s.index = static_cast<std::uint32_t>(i);
     s.id = ids[i];

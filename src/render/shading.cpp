@@ -316,7 +316,7 @@ const MetalTables& tablesFor(const Metal& m, ThreadPool* pool = nullptr) {
 }  // namespace
 
 glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& nIn, const glm::dvec3& view,
-                      double cavity) {
+                      double cavity, const Patina* patina) {
   glm::dvec3 n = nIn;
   if (glm::dot(n, view) > 0) n = -n;  // seen from behind: light the face we see
   // The hammer's dimples tilt the normal of the faces (not the rim's wall).
@@ -330,13 +330,18 @@ glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dv
   glm::dvec3 ss, ms;
   t.response.at(cosV, ss, ms);
   // The tinge (patina) gathers in the hollows: below the front face, fading in over tingeDepth,
-  // and more in the grooves the cavity term finds.
+  // and more in the grooves the cavity term finds; the scene's tinge over the whole sheet, the
+  // brush's where it went. Liquor of sulphur settles in the hollows and wears off the high points.
+  const double settle = std::max(std::clamp((s.frontZ - p.z) / s.tingeDepth, 0.0, 1.0), cavity);
   glm::dvec3 tint(1.0);
-  if (s.tinge.strength > 0) {
-    const double depth = std::clamp((s.frontZ - p.z) / s.tingeDepth, 0.0, 1.0);
-    const double k = std::clamp(s.tinge.strength * (0.25 + 0.75 * std::max(depth, cavity)), 0.0, 1.0);
-    tint = glm::mix(glm::dvec3(1.0), glm::dvec3(s.tinge.color[0], s.tinge.color[1], s.tinge.color[2]), k);
-  }
+  auto apply = [&](const Tinge& t, double amount, double floor) {
+    const double k = std::clamp(amount * (floor + (1.0 - floor) * settle), 0.0, 1.0);
+    tint *= glm::mix(glm::dvec3(1.0), glm::dvec3(t.color[0], t.color[1], t.color[2]), k);
+  };
+  if (s.tinge.strength > 0) apply(s.tinge, s.tinge.strength, 0.25);
+  if (patina)
+    for (size_t i = 1; i < patina->amount.size(); ++i)
+      if (patina->amount[i] > 0) apply(tinges()[i], patina->amount[i], 0.75);
   // Cavities see less of the room: the grooves' walls and the hollows under raised rims hide the
   // lights (specular occlusion from the height field; 0 on open metal).
   const double open = 1.0 - 0.75 * std::clamp(cavity, 0.0, 1.0);

@@ -22,8 +22,13 @@ struct ShadingParams {
 // `cavity` (0 open metal .. 1 a deep groove, from cavityAt()) hides the lights and gathers the tinge.
 // Deterministic: depends on nothing but its arguments. The first call for a metal builds its tables
 // (a prefiltered environment and the lobe's albedo, tens of milliseconds); later calls share them.
+// How much of each tinge the patina brush left at a point (index as tinges(); 0 unused), 0..1.
+struct Patina {
+  std::array<double, 5> amount{};
+};
+// `patina` (optional) tints the metal like the scene's tinge, settling into the hollows.
 glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& view,
-                      double cavity = 0.0);
+                      double cavity = 0.0, const Patina* patina = nullptr);
 
 class ThreadPool;
 // Builds the metal's tables now, shared out over `pool` (else the first shadeMetal() call builds

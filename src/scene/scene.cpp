@@ -213,9 +213,20 @@ Operation operation(const json& v, const std::string& where) {
       op.a2 = positive(v, "a2", where);
       op.a3 = positive(v, "a3", where);
     }
+  } else if (kind == "patina") {
+    op.kind = OpKind::Patina;
+    const std::string tinge = text(v, "tinge", where);
+    const auto& all = tinges();
+    op.tinge = 0;
+    for (size_t i = 1; i < all.size(); ++i)
+      if (all[i].name == tinge) op.tinge = static_cast<int>(i);
+    if (op.tinge == 0) bad(where + ".tinge", "unknown tinge \"" + tinge + "\" (black, brown, green or golden)");
+    op.points = points(v, "points", where);
+    op.a = positive(v, "r", where);
+    op.strength = number(v, "strength", where, 1.0);
   } else {
     bad(where + ".op", "unknown operation \"" + kind +
-                           "\" (trace, punch, press, region, blend_union, subtract, blend_subtract)");
+                           "\" (trace, punch, press, region, blend_union, subtract, blend_subtract, patina)");
   }
   // validate() checks the physical ranges; its message starts with the key.
   const std::string problem = validate(op);
@@ -322,6 +333,12 @@ json opJson(const Operation& o) {
     case OpKind::Press: j["side"] = s; j["a"] = o.a; j["p"] = o.p; j["q"] = o.q; j["points"] = pts(o.points); break;
     case OpKind::Region: j["side"] = s; j["contour"] = pts(o.points); j["height"] = o.height; j["falloff"] = o.falloff; break;
     case OpKind::Subtract: j["tool"] = toolJson(o.tool); break;
+    case OpKind::Patina:
+      j["tinge"] = std::string(tinges()[o.tinge >= 1 && o.tinge <= 4 ? static_cast<size_t>(o.tinge) : 1].name);
+      j["points"] = pts(o.points);
+      j["r"] = o.a;
+      j["strength"] = o.strength;
+      break;
     default: j["tool"] = toolJson(o.tool); j["a1"] = o.a1; j["a2"] = o.a2; j["a3"] = o.a3; break;
   }
   return j;

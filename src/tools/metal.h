@@ -36,8 +36,8 @@ double fresnelConductor(double cosTheta, double eta, double k);
 // The chemical tinges of the paper (patinas): none, black, brown, green, golden.
 struct Tinge {
   std::string_view name;
-  std::array<double, 3> color;  // linear-light tint multiplied into the reflectance
-  double strength;              // 0..1, how much of the tint shows in the hollows
+  std::array<double, 3> color{1.0, 1.0, 1.0};  // linear-light tint multiplied into the reflectance
+  double strength = 0.0;                        // 0..1, how much of the tint shows in the hollows
 };
 const std::array<Tinge, 5>& tinges();
 std::optional<Tinge> tingeByName(std::string_view name);

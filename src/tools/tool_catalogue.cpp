@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "util/portable_math.h"
+
 namespace emboss {
 
 const std::vector<ToolSpec>& toolCatalogue() {
@@ -19,6 +21,10 @@ const std::vector<ToolSpec>& toolCatalogue() {
       {"Hammer", ToolKind::Hammer, 2.0, Side::Front},
       {"Region raiser", ToolKind::RegionRaiser, 3.0, Side::Back},
       {"Blending punch", ToolKind::BlendPunch, 4.0, Side::Back},
+      {"Black patina", ToolKind::PatinaBrush, 6.0, Side::Front, 1},
+      {"Brown patina", ToolKind::PatinaBrush, 6.0, Side::Front, 2},
+      {"Green patina", ToolKind::PatinaBrush, 6.0, Side::Front, 3},
+      {"Golden patina", ToolKind::PatinaBrush, 6.0, Side::Front, 4},
   };
   return kTools;
 }
@@ -67,9 +73,9 @@ std::vector<StrokePoint> resample(const std::vector<StrokePoint>& s, double spac
   if (s.empty()) return out;
   out.push_back(s.front());
   for (size_t i = 1; i < s.size(); ++i)
-    if (std::hypot(s[i].x - out.back().x, s[i].y - out.back().y) >= spacing) out.push_back(s[i]);
+    if (portableHypot(s[i].x - out.back().x, s[i].y - out.back().y) >= spacing) out.push_back(s[i]);
   if (s.size() > 1 && (out.back().x != s.back().x || out.back().y != s.back().y) &&
-      std::hypot(s.back().x - out.back().x, s.back().y - out.back().y) > 0.25 * spacing)
+      portableHypot(s.back().x - out.back().x, s.back().y - out.back().y) > 0.25 * spacing)
     out.push_back(s.back());
   return out;
 }
@@ -83,10 +89,10 @@ void joinTracePieces(std::vector<Operation>& ops, size_t first) {
     if (a.kind != OpKind::Trace || b.kind != OpKind::Trace || a.points.size() < 2 || b.points.empty()) continue;
     const Vec2 p = a.points[a.points.size() - 2], q = a.points.back();
     if (q.x != b.points.front().x || q.y != b.points.front().y) continue;
-    const double dx = q.x - p.x, dy = q.y - p.y, seg = std::hypot(dx, dy);
+    const double dx = q.x - p.x, dy = q.y - p.y, seg = portableHypot(dx, dy);
     if (seg <= 1e-9) continue;
     double len = 0;
-    for (size_t k = 1; k < a.points.size(); ++k) len += std::hypot(a.points[k].x - a.points[k - 1].x, a.points[k].y - a.points[k - 1].y);
+    for (size_t k = 1; k < a.points.size(); ++k) len += portableHypot(a.points[k].x - a.points[k - 1].x, a.points[k].y - a.points[k - 1].y);
     TraceJoin j;
     j.dir = {dx / seg, dy / seg};
     j.r = std::min({1.5 * a.a, 0.4 * len, 1.6});
@@ -112,7 +118,7 @@ std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& met
       int n = 0;
       for (size_t i = 1; i < pts.size(); ++i) {
         piece.push_back({pts[i].x, pts[i].y});
-        len += std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
+        len += portableHypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
         pressure += pts[i].pressure, ++n;
         if (len >= kTraceSegment || i + 1 == pts.size()) {
           ops.push_back(traceOp(tool, metal, piece, pressure / n));
@@ -136,7 +142,7 @@ std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& met
         const auto& a = pts[i];
         const auto& b = pts[std::min(i + 1, pts.size() - 1)];
         double dx = b.x - a.x, dy = b.y - a.y;
-        const double len = std::hypot(dx, dy);
+        const double len = portableHypot(dx, dy);
         if (len < 1e-9) dx = 1, dy = 0; else dx /= len, dy /= len;
         Operation op;
         op.kind = OpKind::Press;
@@ -176,6 +182,16 @@ std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& met
       for (const auto& p : pts) op.points.push_back({p.x, p.y});
       op.height = penetrationDepth(tool, metal, averagePressure(stroke)) * 1.5;
       op.falloff = tool.size;
+      ops.push_back(op);
+      break;
+    }
+    case ToolKind::PatinaBrush: {
+      Operation op;
+      op.kind = OpKind::Patina;
+      op.tinge = std::clamp(tool.tinge, 1, 4);
+      op.a = 0.5 * tool.size;
+      op.strength = std::clamp(0.25 + 0.75 * averagePressure(stroke), 0.0, 1.0);
+      for (const auto& p : resample(stroke, 0.5)) op.points.push_back({p.x, p.y});
       ops.push_back(op);
       break;
     }

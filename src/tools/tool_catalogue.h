@@ -17,6 +17,7 @@ enum class ToolKind {
   Hammer,        // small front strikes for background texture
   RegionRaiser,  // raises a whole outlined region from behind
   BlendPunch,    // adds material with a blended union (4)
+  PatinaBrush,   // a brush of a chemical tinge: colours the metal, settling into the hollows
 };
 
 struct ToolSpec {
@@ -24,10 +25,11 @@ struct ToolSpec {
   ToolKind kind;
   double size;       // mm: tracer width, punch diameter, hammer face, region falloff
   Side side;
+  int tinge = 0;     // patina brush: the tinge (an index into tinges())
 };
 
 // The catalogue: tracers of three widths, round punches of several sizes, an oval and a flat
-// punch, a hammer, a region raiser and a blending punch.
+// punch, a hammer, a region raiser, a blending punch and a patina brush of each tinge.
 const std::vector<ToolSpec>& toolCatalogue();
 
 // One pen sample mapped onto the sheet: x, y in mm on the workpiece, z of the surface there.
@@ -43,7 +45,8 @@ double penetrationDepth(const ToolSpec& tool, const Metal& metal, double pressur
 // The operations a whole stroke makes. Tracers: the path, simplified, split into segments of at
 // most kTraceSegment mm (one trace operation each); punches and hammers: strikes spaced along the
 // path; region raiser: the stroke is the closed contour; blending punch: blended spheres along
-// the path. The parameters are exactly those the equations use.
+// the path; patina brush: one patina operation along the whole stroke (handed out when the pen
+// lifts), its strength from the mean pressure. The parameters are exactly those the equations use.
 std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& metal, const std::vector<StrokePoint>& stroke);
 
 // Single strikes, used by the stroke builder and the attract pieces.

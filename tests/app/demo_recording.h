@@ -104,11 +104,11 @@ inline std::string visitorDemoRecording() {
   for (const auto& p : petals) stroke(art::offsetContour(p, -0.8), 0.9);
   stroke(art::offsetContour(leafL, -0.6), 0.8);
   stroke(art::offsetContour(leafR, -0.6), 0.8);
-  // 3. Six presses on to the punch: the heart as a boss.
-  barrel(6);
-  tap(c, 0.85);
-  // 4. Ten more to the small punch: beads struck around the flower, half way round so far.
+  // 3. Ten presses on, round the catalogue past the patina brushes, to the punch: the heart as a boss.
   barrel(10);
+  tap(c, 0.85);
+  // 4. Fourteen more, round again, to the small punch: beads struck around the flower, half way round so far.
+  barrel(14);
   for (int i = 0; i <= 14; ++i) tap({c.x + 30 * std::cos((200 + i * 10) * M_PI / 180), c.y + 30 * std::sin((200 + i * 10) * M_PI / 180)}, 0.7);
   // The pen leaves.
   event(1, 0x140, 0);

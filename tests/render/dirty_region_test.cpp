@@ -124,6 +124,16 @@ void runCase(const Case& c) {
       Operation op = next < piece.operations.size() ? piece.operations[next++] : randomPunch(rng, piece, opt.toolScale);
       if (rng.chance(0.08)) op = randomSetOperation(rng, piece, 1.0);
       if (rng.chance(0.15)) op = randomTraceSegment(rng, piece, opt.toolScale);
+      if (rng.chance(0.12)) {
+        // A stroke of the patina brush: it colours, it moves nothing.
+        const Operation t = randomTraceSegment(rng, piece, opt.toolScale);
+        op = Operation{};
+        op.kind = OpKind::Patina;
+        op.points = t.points;
+        op.tinge = 1 + static_cast<int>(rng.uniform(0, 3.999));
+        op.a = rng.uniform(1.0, 5.0);
+        op.strength = rng.uniform(0.3, 1.0);
+      }
       ASSERT_TRUE(model.add(op).ok());
       index = model.activeCount() - 1;
       what = std::string("add ") + opKindName(op.kind);

@@ -74,7 +74,7 @@ TEST(SceneFile, MalformedFilesGetOneClearMessage) {
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"trace","a":1,"points":[[0,0]],"join_start":{"dir":[1,0]}}]})"),
             "piece.json: operations[0].join_start.r: missing (a number is required)");
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"twist"}]})"),
-            "piece.json: operations[0].op: unknown operation \"twist\" (trace, punch, press, region, blend_union, subtract, blend_subtract)");
+            "piece.json: operations[0].op: unknown operation \"twist\" (trace, punch, press, region, blend_union, subtract, blend_subtract, patina)");
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"region","contour":[[0,0],[1,1]],"height":1,"falloff":1}]})"),
             "piece.json: operations[0].contour: a closed contour needs at least 3 points");
   EXPECT_EQ(errorOf(R"({"operations":[{"op":"punch","a":1}]})"), "piece.json: operations[0].at: missing ([x, y, z] is required)");

@@ -1,0 +1,182 @@
+// The patina brush: the scene format, a stroke of the kiosk's brush, a colour that moves nothing,
+// settles into the hollows, goes with an undo, and reaches the POV-Ray export.
+#include <cstdlib>
+#include <fstream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "app/stroke_builder.h"
+#include "export/pov.h"
+#include "render/renderer.h"
+#include "render/shading.h"
+#include "scene/scene.h"
+#include "test_support.h"
+#include "tools/tool_catalogue.h"
+
+namespace emboss {
+namespace {
+
+const char* kScene = R"({"format": "emboss-scene", "version": 1, "metal": "copper", "deformation": "sheet",
+  "workpiece": {"type": "plate", "w": 20, "h": 14, "d": 0.5},
+  "camera": {"type": "perspective", "eye": [0, -20, 60], "target": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 35},
+  "operations": [
+    {"op": "trace", "side": "front", "a": 0.8, "points": [[-12, 0], [12, 0]]},
+    {"op": "patina", "tinge": "black", "points": [[-14, 0], [14, 0]], "r": 4, "strength": 1.0}
+  ]})";
+
+TEST(Patina, SceneFormatReadsAndWritesIt) {
+  auto scene = parseScene(kScene, "patina.json", ".");
+  ASSERT_TRUE(scene) << scene.error();
+  ASSERT_EQ(scene->operations.size(), 2u);
+  const Operation& p = scene->operations[1];
+  EXPECT_EQ(p.kind, OpKind::Patina);
+  EXPECT_EQ(tinges()[static_cast<size_t>(p.tinge)].name, "black");
+  EXPECT_EQ(p.a, 4.0);
+  EXPECT_EQ(p.strength, 1.0);
+  const std::string line = operationToJson(p);
+  EXPECT_NE(line.find("\"tinge\":\"black\""), std::string::npos) << line;
+  EXPECT_NE(line.find("\"r\":4"), std::string::npos) << line;
+  auto again = parseScene(sceneToJson(*scene), "again.json", ".");
+  ASSERT_TRUE(again) << again.error();
+  EXPECT_EQ(again->operations[1].tinge, p.tinge);
+  EXPECT_EQ(again->operations[1].points.size(), p.points.size());
+  // Bad values are named.
+  for (const auto& [bad, key] : {std::pair{R"("tinge": "purple")", "operations[1].tinge"},
+                                 std::pair{R"("tinge": "black", "strength": 1.5)", "operations[1].strength"},
+                                 std::pair{R"("tinge": "black", "r": -1)", "operations[1].r"}}) {
+    std::string text = kScene;
+    const std::string from = R"("tinge": "black")";
+    text.replace(text.find(from), from.size(), bad);
+    if (std::string(bad).find("\"r\"") != std::string::npos) text.replace(text.find(R"("r": 4, )"), 8, "");
+    if (std::string(bad).find("strength") != std::string::npos) text.replace(text.find(R"(, "strength": 1.0)"), 17, "");
+    auto s = parseScene(text, "bad.json", ".");
+    ASSERT_FALSE(s) << bad;
+    EXPECT_NE(s.error().find(key), std::string::npos) << s.error();
+  }
+}
+
+TEST(Patina, ColoursAndMovesNothing) {
+  auto scene = parseScene(kScene, "patina.json", ".");
+  ASSERT_TRUE(scene);
+  auto with = scene->makeModel();
+  Scene bare = *scene;
+  bare.operations.pop_back();
+  auto without = bare.makeModel();
+  ASSERT_TRUE(with && without);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 2000; ++i) {
+    const P3<double> p{15 * u(rng), 10 * u(rng), 0.6 * u(rng)};
+    ASSERT_EQ(with->evaluate(p), without->evaluate(p));
+  }
+  EXPECT_EQ(with->bounds().z0, without->bounds().z0);
+  EXPECT_EQ(with->bounds().z1, without->bounds().z1);
+  // The brush: full in its middle, a soft rim, nothing beyond its radius.
+  const PreparedOp& op = with->operations()[1];
+  EXPECT_DOUBLE_EQ(op.patinaAt(0, 0), 1.0);
+  EXPECT_GT(op.patinaAt(0, 2), 0.8);
+  EXPECT_GT(op.patinaAt(0, 3.5), 0.0);
+  EXPECT_LT(op.patinaAt(0, 3.5), 0.5);
+  EXPECT_EQ(op.patinaAt(0, 4.01), 0.0);
+}
+
+TEST(Patina, SettlesIntoTheHollows) {
+  ShadingParams s;
+  s.metal = *metalByName("copper");
+  const glm::dvec3 p(0, 0, 0.5), n(0, 0, 1), view = glm::normalize(glm::dvec3(0, 0.3, -1));
+  Patina black;
+  black.amount[1] = 0.8;
+  const double open = glm::dot(shadeMetal(s, p, n, view, 0.0), glm::dvec3(1));
+  const double tinted = glm::dot(shadeMetal(s, p, n, view, 0.0, &black), glm::dvec3(1));
+  const double tintedHollow = glm::dot(shadeMetal(s, p, n, view, 1.0, &black), glm::dvec3(1));
+  const double bareHollow = glm::dot(shadeMetal(s, p, n, view, 1.0), glm::dvec3(1));
+  EXPECT_LT(tinted, 0.6 * open);                          // the brush shows on open metal
+  EXPECT_LT(tintedHollow / bareHollow, tinted / open);   // and more in a hollow
+  Patina green;
+  green.amount[3] = 0.8;
+  const glm::dvec3 g = shadeMetal(s, p, n, view, 0.0, &green);
+  const glm::dvec3 c = shadeMetal(s, p, n, view, 0.0);
+  EXPECT_GT(g.g / g.r, c.g / c.r);  // verdigris turns copper toward green
+}
+
+TEST(Patina, UndoTakesItAwayExactly) {
+  auto scene = parseScene(kScene, "patina.json", ".");
+  ASSERT_TRUE(scene);
+  Scene bare = *scene;
+  bare.operations.pop_back();
+  auto model = bare.makeModel();
+  ASSERT_TRUE(model);
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.setCamera(Camera(scene->camera, 160, 100));
+  ShadingParams s;
+  s.metal = *metalByName("copper");
+  s.frontZ = model->workpiece().bounds().z1;
+  r.setShading(s);
+  r.sync(*model);
+  Image before;
+  ASSERT_TRUE(r.renderFull(before));
+  ASSERT_TRUE(model->add(scene->operations[1]).ok());
+  r.sync(*model);
+  Image image = before;
+  const Rect dirty = r.dirtyRect(*model, 1);
+  EXPECT_GT(dirty.area(), 0);
+  EXPECT_LT(dirty.area(), 160 * 100);
+  ASSERT_TRUE(r.render(image, dirty));
+  int darker = 0;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 160; ++x) darker += image.pixel(x, y)[1] + 8 < before.pixel(x, y)[1];
+  EXPECT_GT(darker, 500) << "the black stroke darkens the metal under it";
+
+  ASSERT_TRUE(model->undo());
+  r.sync(*model);
+  ASSERT_TRUE(r.render(image, r.dirtyRect(*model, 1)));
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 160; ++x)
+      for (int k = 0; k < 4; ++k) ASSERT_EQ(image.pixel(x, y)[k], before.pixel(x, y)[k]) << x << "," << y;
+}
+
+TEST(Patina, TheKioskBrushLaysOneStrokeWhenThePenLifts) {
+  const ToolSpec* brush = nullptr;
+  for (const auto& t : toolCatalogue())
+    if (t.name == "Green patina") brush = &t;
+  ASSERT_NE(brush, nullptr);
+  StrokeBuilder b;
+  b.begin(*brush, *metalByName("copper"));
+  size_t handed = 0;
+  for (int i = 0; i <= 40; ++i) handed += b.add(StrokePoint{-10 + 0.5 * i, 2.0, 0.5, 0.6}).size();
+  EXPECT_EQ(handed, 0u) << "nothing is laid while the brush moves";
+  const auto f = b.end();
+  ASSERT_EQ(f.rest.size(), 1u);
+  const Operation& op = f.rest[0];
+  EXPECT_EQ(op.kind, OpKind::Patina);
+  EXPECT_EQ(tinges()[static_cast<size_t>(op.tinge)].name, "green");
+  EXPECT_DOUBLE_EQ(op.a, 0.5 * brush->size);
+  EXPECT_NEAR(op.strength, 0.25 + 0.75 * 0.6, 1e-9);
+  EXPECT_GE(op.points.size(), 20u);
+  EXPECT_TRUE(validate(op).empty()) << validate(op);
+}
+
+TEST(Patina, PovExportLayersTheTinge) {
+  auto scene = parseScene(kScene, "patina.json", ".");
+  ASSERT_TRUE(scene);
+  auto model = scene->makeModel();
+  ASSERT_TRUE(model);
+  PovExportOptions opt;
+  opt.width = 80, opt.height = 50;
+  auto pov = exportPov(*scene, *model, opt);
+  ASSERT_TRUE(pov) << pov.error();
+  EXPECT_NE(pov->find("Emboss_Brush("), std::string::npos);
+  EXPECT_NE(pov->find("rgbf <1, 1, 1, 1>"), std::string::npos);
+  if (std::system("command -v povray >/dev/null 2>&1") != 0) GTEST_SKIP() << "povray is not installed";
+  const auto dir = test::scratchDir("pov-patina");
+  std::ofstream(dir / "scene.pov") << *pov;
+  const std::string cmd = "cd '" + dir.string() + "' && povray +Iscene.pov +W80 +H50 +FN +Opov.png -D -V >povray.log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << test::readText(dir / "povray.log");
+  auto png = readPng(dir / "pov.png");
+  ASSERT_TRUE(png) << png.error();
+}
+
+}  // namespace
+}  // namespace emboss
