@@ -4,7 +4,8 @@
 #   bash tests/reference/metal-reference.sh BUILD_DIR [OUT_DIR] [WxH] [SAMPLES] [SCENE]
 #     OUT_DIR   where reference-<metal>.png go (default docs/images)
 #     WxH       picture size of each half (default 800x500); SAMPLES Cycles' samples a pixel (256)
-#     SCENE     the piece (default firmware-app/pieces/2-shell.json); its metal is replaced in turn
+#     SCENE     the piece (default firmware-app/pieces/2-shell.json); its metal is replaced in turn,
+#               its tinge and patina strokes are left out (python3 edits the JSON)
 # Needs blender (apt-get install blender); exits 77 without it. Minutes: about one a metal at the
 # defaults on 2 cores.
 set -euo pipefail
@@ -24,8 +25,14 @@ trap 'rm -rf "$work"' EXIT
 say "mesh of $(basename "$scene")"
 "$emboss" export "$scene" --format stl --resolution 0.15 -o "$work/piece.stl" | head -1 >&2
 for metal in copper brass silver aluminium; do
-  sed -E "s/\"metal\": *\"[a-z]+\"/\"metal\": \"$metal\"/" "$scene" > "$work/$metal.json"
-  grep -q "\"metal\": \"$metal\"" "$work/$metal.json" || { say "$scene names no metal to replace"; exit 2; }
+  # The bare metal: no tinge, no patina strokes (the reference compares the metal's optics).
+  python3 - "$scene" "$metal" > "$work/$metal.json" <<'PY' || { say "cannot read $scene"; exit 2; }
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["metal"], scene["tinge"] = sys.argv[2], "none"
+scene["operations"] = [op for op in scene.get("operations", []) if op.get("op") != "patina"]
+json.dump(scene, sys.stdout)
+PY
   t0=$SECONDS
   "$emboss" render "$work/$metal.json" -o "$work/ours-$metal.png" --size "$size" >/dev/null
   t1=$SECONDS
