@@ -47,12 +47,15 @@ seen() { grep -a -m1 "$1" "$job/console.log" 2>/dev/null; }
 while kill -0 "$qpid" 2>/dev/null && [ -z "$(seen 'first frame on the screen')" ]; do sleep 5; done
 took=$((SECONDS - t0))
 ok=0
-for what in 'systemd\[1\]: .*Reached target.*[Ll]ocal [Ff]ile [Ss]ystems' 'emboss-kiosk.*display: ' 'emboss-kiosk.*attract: ' 'first frame on the screen'; do
+for what in 'systemd\[1\]: .*Reached target local-fs.target' 'systemd\[1\]: Mounted var-lib-emboss' 'emboss-kiosk.*display: ' 'emboss-kiosk.*attract: ' 'first frame on the screen'; do
   line=$(seen "$what")
   if [ -n "$line" ]; then echo "PASS  $line"; else echo "FAIL  no line matching '$what'"; ok=1; fi
 done
 root=$(grep -a -m1 'EXT4-fs (vda2): mounted' "$job/console.log")
 echo "root: ${root:-no 'EXT4-fs (vda2): mounted' line}"
 echo "boot-arm64: $took s from QEMU's start$([ $ok = 0 ] && echo ' to the kiosk'"'"'s first frame')"
+# The serial console is kept for a look afterwards.
+keep="${EMBOSS_IMAGE_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/emboss-image}/boot-arm64-console.log"
+mkdir -p "$(dirname "$keep")" && cp "$job/console.log" "$keep" && echo "boot-arm64: the console is in $keep"
 [ $ok = 0 ] || { tail -30 "$job/console.log" >&2; cat "$job/qemu.log" >&2; }
 exit $ok
