@@ -27,7 +27,7 @@ struct RenderStats {
   std::uint64_t fieldEvaluations = 0;  // evaluations whose displacement came from the cached field
   double traceSeconds = 0.0;      // time spent finding surfaces (wall clock per tile, summed over tiles)
   double shadeSeconds = 0.0;      // time spent on the second pass: edges' extra rays, sRGB (likewise)
-  std::uint64_t edgePixels = 0;   // pixels anti-aliased with four extra rays
+  std::uint64_t edgePixels = 0;   // pixels anti-aliased with two extra rays
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
   double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
