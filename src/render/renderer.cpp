@@ -114,12 +114,17 @@ constexpr double kEdgeSamples[2][2] = {{-0.3333, -0.3333}, {0.3333, 0.3333}};
 // brightness criterion as well, 8 to 11 % of the pixels took them and the frame doubled).
 constexpr float kCreaseCos = 0.87f;
 
+// `r` grown by n pixels each way and clipped to a w x h image.
+Rect grownWithin(const Rect& r, int n, int w, int h) {
+  const int x0 = std::max(0, r.x - n), y0 = std::max(0, r.y - n);
+  return {x0, y0, std::min(w, r.x + r.w + n) - x0, std::min(h, r.y + r.h + n) - y0};
+}
+
 }  // namespace
 
 glm::dvec3 Renderer::sample(double sx, double sy, bool field, RenderStats& st, std::vector<std::uint32_t>& scratch,
-                            bool* hitOut, glm::vec3* normalOut) const {
+                            glm::vec3* normalOut) const {
   const auto hit = field ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
-  if (hitOut) *hitOut = hit.has_value();
   if (normalOut) *normalOut = hit ? glm::vec3(hit->n) : glm::vec3(0.0f);
   if (!hit) return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
   double cavity = 0.0;
@@ -148,93 +153,75 @@ glm::dvec3 Renderer::sample(double sx, double sy, bool field, RenderStats& st, s
 bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, const std::atomic_bool* cancel) {
   const int w = camera_->width(), h = camera_->height();
   if (image.width != w || image.height != h) image = Image(w, h);
-  Rect rect{std::max(0, rectIn.x), std::max(0, rectIn.y), 0, 0};
-  rect.w = std::min(w, rectIn.x + rectIn.w) - rect.x;
-  rect.h = std::min(h, rectIn.y + rectIn.h) - rect.y;
+  const Rect rect = grownWithin(rectIn, 0, w, h);
   if (rect.empty()) return true;
   const bool field = usesField();
   // Two passes. The first traces one ray through the centre of every pixel of the rectangle and
   // of the ring of pixels around it; the second writes the rectangle's pixels, each from its own
   // centre sample, or, where it differs from a neighbour's (an edge: the sheet against the
-  // backdrop, a groove's lip), from four more rays inside it. A pixel's bytes so depend on its own
-  // and its four neighbours' rays only: dirtyRect() grows by one pixel for it.
-  const Rect outer{std::max(0, rect.x - 1), std::max(0, rect.y - 1), 0, 0};
-  Rect ring = outer;
-  ring.w = std::min(w, rect.x + rect.w + 1) - ring.x;
-  ring.h = std::min(h, rect.y + rect.h + 1) - ring.y;
-  std::vector<glm::vec3> centre(static_cast<size_t>(ring.w) * ring.h);
-  std::vector<std::uint8_t> hitMask(centre.size());
-  std::vector<glm::vec3> normal(centre.size());
+  // backdrop, a crease), from two more rays inside it. A pixel's bytes so depend on its own and
+  // its four neighbours' rays only: dirtyRect() grows by one pixel for it.
+  const Rect ring = grownWithin(rect, 1, w, h);
+  // Per pixel of the ring: the centre sample's linear colour and its normal (zero: no hit).
+  std::vector<glm::vec3> centre(static_cast<size_t>(ring.w) * ring.h), normal(centre.size());
   auto at = [&](int x, int y) { return static_cast<size_t>(y - ring.y) * ring.w + (x - ring.x); };
+  const glm::vec3 none(0.0f);
   // Small rectangles (dirty updates) in smaller tiles, so that every thread gets a share; the
   // tiles change no pixel.
   int tileSize = options_.tileSize;
   while (tileSize > 8 && static_cast<long>(rect.w / tileSize + 1) * (rect.h / tileSize + 1) < 6L * pool_.size()) tileSize /= 2;
   std::mutex statsMutex;
   std::atomic_bool aborted{false};
-  using Clock = std::chrono::steady_clock;
-  bool done = pool_.parallelFor2D(ring, tileSize, [&](const Rect& tile) {
-    thread_local std::vector<std::uint32_t> scratch;
-    RenderStats st;
-    const auto start = Clock::now();
-    for (int y = tile.y; y < tile.y + tile.h; ++y) {
-      // A superseded frame stops within a row.
-      if (cancel && cancel->load(std::memory_order_relaxed)) {
-        aborted = true;
-        return;
-      }
-      for (int x = tile.x; x < tile.x + tile.w; ++x) {
-        bool hit = false;
-        centre[at(x, y)] = glm::vec3(sample(x + 0.5, y + 0.5, field, st, scratch, &hit, &normal[at(x, y)]));
-        hitMask[at(x, y)] = hit;
-      }
-    }
-    st.traceSeconds = std::chrono::duration<double>(Clock::now() - start).count();
-    std::lock_guard lock(statsMutex);
-    if (stats) *stats += st;
-  }, cancel);
-  if (!done || aborted.load()) return false;
-  done = pool_.parallelFor2D(rect, tileSize, [&](const Rect& tile) {
-    thread_local std::vector<std::uint32_t> scratch;
-    RenderStats st;
-    const auto start = Clock::now();
-    for (int y = tile.y; y < tile.y + tile.h; ++y) {
-      if (cancel && cancel->load(std::memory_order_relaxed)) {
-        aborted = true;
-        return;
-      }
-      for (int x = tile.x; x < tile.x + tile.w; ++x) {
-        const size_t i = at(x, y);
-        bool edge = false;
-        for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
-          const size_t j = at(nx, ny);
-          if (hitMask[j] != hitMask[i] || (hitMask[i] && glm::dot(normal[i], normal[j]) < kCreaseCos))
-            edge = true;
+  // One pass: `pixel` over every pixel of `area` on the pool, its wall time per tile summed into
+  // the stats' `seconds`. A superseded frame stops within a row.
+  auto pass = [&](const Rect& area, double RenderStats::*seconds, const auto& pixel) {
+    using Clock = std::chrono::steady_clock;
+    return pool_.parallelFor2D(area, tileSize, [&](const Rect& tile) {
+      thread_local std::vector<std::uint32_t> scratch;
+      RenderStats st;
+      const auto start = Clock::now();
+      for (int y = tile.y; y < tile.y + tile.h; ++y) {
+        if (cancel && cancel->load(std::memory_order_relaxed)) {
+          aborted = true;
+          return;
         }
-        std::uint8_t* px = image.pixel(x, y);
-        if (!edge && !hitMask[i]) {
-          const std::uint8_t* bd = &backdrop_[(static_cast<size_t>(y) * w + x) * 3];
-          px[0] = bd[0], px[1] = bd[1], px[2] = bd[2];
-        } else {
-          glm::dvec3 c(centre[i]);
-          if (edge) {
-            for (const auto& o : kEdgeSamples) c += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, st, scratch);
-            c /= 3.0;
-            ++st.edgePixels;
-          }
-          const auto rgb = toSrgb8Fast(c);
-          px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2];
-        }
-        px[3] = 255;
+        for (int x = tile.x; x < tile.x + tile.w; ++x) pixel(x, y, st, scratch);
       }
+      st.*seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      std::lock_guard lock(statsMutex);
+      if (stats) *stats += st;
+    }, cancel) && !aborted.load();
+  };
+  const bool traced = pass(ring, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
+    centre[at(x, y)] = glm::vec3(sample(x + 0.5, y + 0.5, field, st, scratch, &normal[at(x, y)]));
+  });
+  if (!traced) return false;
+  return pass(rect, &RenderStats::shadeSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
+    const size_t i = at(x, y);
+    const bool hit = normal[i] != none;
+    bool edge = false;
+    for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
+      const size_t j = at(nx, ny);
+      if ((normal[j] != none) != hit || (hit && glm::dot(normal[i], normal[j]) < kCreaseCos)) edge = true;
     }
-    st.shadeSeconds = std::chrono::duration<double>(Clock::now() - start).count();
-    std::lock_guard lock(statsMutex);
-    if (stats) *stats += st;
-  }, cancel);
-  return done && !aborted.load();
+    std::uint8_t* px = image.pixel(x, y);
+    if (!edge && !hit) {
+      const std::uint8_t* bd = &backdrop_[(static_cast<size_t>(y) * w + x) * 3];
+      px[0] = bd[0], px[1] = bd[1], px[2] = bd[2];
+    } else {
+      glm::dvec3 c(centre[i]);
+      if (edge) {
+        for (const auto& o : kEdgeSamples) c += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, st, scratch);
+        c /= 3.0;
+        ++st.edgePixels;
+      }
+      const auto rgb = toSrgb8Fast(c);
+      px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2];
+    }
+    px[3] = 255;
+  });
 }
 
 bool Renderer::renderFull(Image& image, RenderStats* stats, const std::atomic_bool* cancel) {
@@ -264,12 +251,8 @@ Rect Renderer::projectBox(const Box3& b) const {
 
 Rect Renderer::dirtyRect(const Model& model, size_t index) const {
   // A pixel reads its four neighbours' rays (render()): one pixel more each way.
-  Rect r = dirtyRectOfRays(model, index);
-  if (r.empty()) return r;
-  const int x1 = std::min(camera_->width(), r.x + r.w + 1), y1 = std::min(camera_->height(), r.y + r.h + 1);
-  r.x = std::max(0, r.x - 1), r.y = std::max(0, r.y - 1);
-  r.w = x1 - r.x, r.h = y1 - r.y;
-  return r;
+  const Rect r = dirtyRectOfRays(model, index);
+  return r.empty() ? r : grownWithin(r, 1, camera_->width(), camera_->height());
 }
 
 Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {

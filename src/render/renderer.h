@@ -130,9 +130,10 @@ class Renderer {
   // Rays through image point (sx, sy) (pixel x's centre is x + 0.5).
   std::optional<Hit> traceExact(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
   std::optional<Hit> traceField(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
-  // The linear colour of the ray through (sx, sy): shaded metal, or the backdrop.
+  // The linear colour of the ray through (sx, sy): shaded metal, or the backdrop; *normal gets
+  // the hit's unit normal, or zero where the ray misses.
   glm::dvec3 sample(double sx, double sy, bool field, RenderStats& st, std::vector<std::uint32_t>& scratch,
-                    bool* hit = nullptr, glm::vec3* normal = nullptr) const;
+                    glm::vec3* normal = nullptr) const;
   // dirtyRect() before the anti-aliasing's one pixel.
   Rect dirtyRectOfRays(const Model& model, size_t index) const;
   template <class T>

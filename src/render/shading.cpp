@@ -207,6 +207,7 @@ struct MetalResponse {
   std::array<glm::dvec3, kBins + 1> single{};   // E_F(mu): single scattering with Fresnel, mu = i / kBins
   std::array<double, kBins + 1> albedo{};       // E_1(mu): the same with Fresnel 1
   glm::dvec3 favg{0.0};                          // hemispherical average of the Fresnel term
+  double eavg = 0.0;                             // cosine-weighted average of E_1
 
   explicit MetalResponse(const Metal& m) {
     const double alpha = m.roughness;
@@ -234,14 +235,11 @@ struct MetalResponse {
       const double mu = (i + 0.5) / kAvg;
       for (int c = 0; c < 3; ++c) favg[c] += 2.0 * mu * fresnelConductor(mu, m.eta[c], m.k[c]) / kAvg;
     }
-    double eavg = 0.0;
     for (int bin = 0; bin < kBins; ++bin) {
       const double mu = (bin + 0.5) / kBins;
       eavg += 2.0 * mu * 0.5 * (albedo[bin] + albedo[bin + 1]) / kBins;
     }
-    eavgValue = eavg;
   }
-  double eavgValue = 1.0;  // cosine-weighted average of E_1
 
   // Single and multiple scattering reflectance for view cosine mu, to multiply the prefiltered
   // environment and the irradiance respectively.
@@ -253,7 +251,7 @@ struct MetalResponse {
     const double e1 = albedo[i] + (albedo[i + 1] - albedo[i]) * a;
     // Kulla-Conty: the lobe that returns the energy single scattering loses, 1 - E_1(mu), tinted
     // by the Fresnel term averaged over the bounces.
-    const glm::dvec3 fms = favg * favg * eavgValue / (glm::dvec3(1.0) - favg * (1.0 - eavgValue));
+    const glm::dvec3 fms = favg * favg * eavg / (glm::dvec3(1.0) - favg * (1.0 - eavg));
     ms = fms * (1.0 - e1);
   }
 };

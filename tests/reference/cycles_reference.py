@@ -54,6 +54,14 @@ piece.data.use_auto_smooth = True
 piece.data.auto_smooth_angle = math.radians(35.0)
 
 
+def fresh_nodes(owner):
+    """The node tree of a material, world or scene, emptied: its nodes and links."""
+    owner.use_nodes = True
+    tree = owner.node_tree
+    tree.nodes.clear()
+    return tree.nodes, tree.links
+
+
 def fresnel_conductor(cos_i, n, k):
     """Unpolarised reflectance of n + ik from the complex Fresnel amplitudes (Born and Wolf)."""
     N = complex(n, k)
@@ -77,9 +85,7 @@ table.pixels = pixels
 table.pack()
 
 mat = bpy.data.materials.new("metal")
-mat.use_nodes = True
-nodes, links = mat.node_tree.nodes, mat.node_tree.links
-nodes.clear()
+nodes, links = fresh_nodes(mat)
 out = nodes.new("ShaderNodeOutputMaterial")
 glossy = nodes.new("ShaderNodeBsdfGlossy")
 glossy.distribution = "MULTI_GGX"
@@ -105,9 +111,7 @@ piece.data.materials.append(mat)
 # ---- the studio: the exported environment; camera rays that miss see the backdrop's colour
 world = bpy.data.worlds.new("studio")
 scene.world = world
-world.use_nodes = True
-wn, wl = world.node_tree.nodes, world.node_tree.links
-wn.clear()
+wn, wl = fresh_nodes(world)
 wout = wn.new("ShaderNodeOutputWorld")
 env = wn.new("ShaderNodeTexEnvironment")
 env.image = bpy.data.images.load(os.path.join(os.path.dirname(os.path.abspath(studio_path)), studio["environment"]))
@@ -147,9 +151,7 @@ cam.matrix_world = Matrix.Translation(eye) @ rot.to_4x4()
 scene.camera = cam
 
 # ---- the tone curve: c / (1 + 0.25 c) per channel before the sRGB curve (the Standard view)
-scene.use_nodes = True
-cn, cl = scene.node_tree.nodes, scene.node_tree.links
-cn.clear()
+cn, cl = fresh_nodes(scene)
 layers = cn.new("CompositorNodeRLayers")
 split = cn.new("CompositorNodeSeparateColor")
 join = cn.new("CompositorNodeCombineColor")
