@@ -17,8 +17,8 @@
 #include "input/evemu.h"
 #include "input/hid_descriptor.h"
 #include "input/hidrecord.h"
-#include "pen_probe.h"
-#include "pen_replay.h"
+#include "pen/pen_probe.h"
+#include "pen/pen_replay.h"
 #include "version.h"
 
 namespace {

@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
-#include "text_image.h"
+#include "gl/text_image.h"
 #include "version.h"
 
 int main(int argc, char** argv) {

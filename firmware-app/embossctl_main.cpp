@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "staff/staff_protocol.h"
-#include "staff_socket.h"
+#include "system/staff_socket.h"
 #include "version.h"
 
 using namespace emboss;

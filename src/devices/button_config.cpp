@@ -128,6 +128,17 @@ class Fields {
     return a;
   }
 
+  std::optional<GpioRead> read(const char* key) {
+    if (!j_.contains(key)) return std::nullopt;
+    const json& v = j_[key];
+    if (v.is_string()) {
+      for (GpioRead r : {GpioRead::Auto, GpioRead::Edges, GpioRead::Levels})
+        if (v.get<std::string>() == gpioReadName(r)) return r;
+    }
+    setError(at(key) + ": " + v.dump() + " is not one of \"auto\", \"edges\", \"levels\"");
+    return std::nullopt;
+  }
+
   std::optional<LineBias> bias(const char* key) {
     if (!j_.contains(key)) return std::nullopt;
     const json& v = j_[key];
@@ -153,6 +164,15 @@ const char* lineBiasName(LineBias b) {
   return "as_is";
 }
 
+const char* gpioReadName(GpioRead r) {
+  switch (r) {
+    case GpioRead::Auto: return "auto";
+    case GpioRead::Edges: return "edges";
+    case GpioRead::Levels: return "levels";
+  }
+  return "auto";
+}
+
 int ButtonConfig::buttonFor(Action a) const {
   for (size_t i = 0; i < buttons.size(); ++i)
     if (buttons[i].action == a) return static_cast<int>(i);
@@ -172,7 +192,7 @@ Result<ButtonConfig> parseButtonConfig(const std::string& text, const std::strin
   ButtonConfig config;
   config.source = name;
   Fields top(root, "", error);
-  top.onlyKeys({"chip", "active_low", "bias", "debounce_ms", "long_press_ms", "chord_window_ms", "buttons", "chords"});
+  top.onlyKeys({"chip", "active_low", "bias", "debounce_ms", "long_press_ms", "chord_window_ms", "read", "buttons", "chords"});
 
   // Top-level defaults for every button.
   ButtonLineConfig defaults;
@@ -182,6 +202,7 @@ Result<ButtonConfig> parseButtonConfig(const std::string& text, const std::strin
   if (auto v = top.number("debounce_ms", 0, 1000, "ms")) defaults.debounceS = *v / 1000.0;
   if (auto v = top.number("long_press_ms", 500, 60000, "ms")) config.longPressS = *v / 1000.0;
   if (auto v = top.number("chord_window_ms", 10, 2000, "ms")) config.chordWindowS = *v / 1000.0;
+  if (auto v = top.read("read")) config.read = *v;
   if (!error.empty()) return fail(name + ": " + error);
 
   if (!root.contains("buttons") || !root["buttons"].is_array() || root["buttons"].empty())

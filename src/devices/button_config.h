@@ -16,6 +16,15 @@ enum class LineBias { AsIs, Disable, PullUp, PullDown };
 
 const char* lineBiasName(LineBias b);
 
+// How the lines are read. Edges: the kernel's edge events (an interrupt per line, stamped by the
+// kernel). Levels: the levels read every 20 ms, with no interrupt held. Auto: levels on a chip that
+// can be unplugged (on USB or HID, such as a CP2112 adapter), edges on any other (a board's own
+// header). Linux 6.1 frees a removed chip's interrupts under the handlers of the lines still
+// requested for edges (docs/hardware.md, "Unplugging a USB GPIO adapter").
+enum class GpioRead { Auto, Edges, Levels };
+
+const char* gpioReadName(GpioRead r);
+
 // One physical button on one GPIO line.
 struct ButtonLineConfig {
   std::string chip = "gpiochip0";  // a chip name, number, /dev path or label (as gpiodetect shows)
@@ -43,6 +52,7 @@ struct ButtonConfig {
   std::vector<ChordConfig> chords;
   double longPressS = 3.0;
   double chordWindowS = 0.15;
+  GpioRead read = GpioRead::Auto;
   std::string source = "built-in";  // where the configuration came from, for messages
 
   // The index of the button with this action, or -1.

@@ -17,7 +17,7 @@
 #include "app/stroke_builder.h"
 #include "demo_recording.h"
 #include "input/evemu.h"
-#include "pen_replay.h"
+#include "pen/pen_replay.h"
 #include "kiosk_fixtures.h"
 #include "test_support.h"
 

@@ -13,7 +13,7 @@
 
 #include "app/kiosk_app.h"
 #include "app/pointer_input.h"
-#include "display_x11.h"
+#include "display/display_x11.h"
 #include "frep/workpieces.h"
 #include "test_support.h"
 

@@ -112,6 +112,12 @@ hil_test() {
   timeout -s KILL "$limit" /bin/hil-chroot "$@" 2>&1
   rc=$?
   hil_backtraces
+  # A program killed by SIGSEGV without a core may have died in the kernel (an oops in a system call
+  # kills the calling task with SIGSEGV): the kernel's own log says which.
+  if [ "$rc" -ne 0 ]; then
+    echo "hil: $name failed (status $rc); the kernel's log since boot, its last 80 lines:"
+    dmesg 2>/dev/null | tail -80
+  fi
   t1=$(cut -d' ' -f1 /proc/uptime)
   echo "EMBOSS-HIL-END $name rc=$rc secs=$(echo "$t0 $t1" | awk '{printf "%.1f", $2 - $1}')"
   return $rc

@@ -6,7 +6,7 @@
 //   hil_camera_vivid          (needs the module vivid)
 #include <set>
 
-#include "camera_v4l2.h"
+#include "camera/camera_v4l2.h"
 #include "hil_common.h"
 
 namespace fs = std::filesystem;

@@ -17,8 +17,8 @@
 #include "evemu_uinput.h"
 #include "hil_common.h"
 #include "input/evemu.h"
-#include "pen_evdev.h"
-#include "pen_probe.h"
+#include "pen/pen_evdev.h"
+#include "pen/pen_probe.h"
 
 namespace fs = std::filesystem;
 using emboss::PenSample;

@@ -19,9 +19,9 @@
 #include "input/hid_decode.h"
 #include "input/hid_descriptor.h"
 #include "input/hidrecord.h"
-#include "pen_evdev.h"
-#include "pen_hidraw.h"
-#include "pen_probe.h"
+#include "pen/pen_evdev.h"
+#include "pen/pen_hidraw.h"
+#include "pen/pen_probe.h"
 
 namespace fs = std::filesystem;
 using emboss::PenSample;

@@ -19,9 +19,9 @@
 
 #include "hil_common.h"
 #include "input/hid_decode.h"
-#include "pen_hidraw.h"
-#include "pen_probe.h"
-#include "usb_uclogic.h"
+#include "pen/pen_hidraw.h"
+#include "pen/pen_probe.h"
+#include "pen/usb_uclogic.h"
 
 namespace fs = std::filesystem;
 using emboss::PenSample;

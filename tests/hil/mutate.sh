@@ -19,18 +19,20 @@ fixtures=$(cd "$fixtures" && pwd)
 
 # name | source file | text | replacement | test program | what the bug is
 mutants=(
-  "evdev-range|platform/pen_evdev.cpp|a->minimum, a->maximum,|a->minimum, a->maximum + 100,|hil_evdev_uinput|the evdev back end misreads the axis ranges"
-  "evdev-nograb|platform/pen_evdev.cpp|if (grab) {|if (false) {|hil_evdev_uinput|the evdev back end does not grab the tablet"
-  "hidraw-offset|platform/pen_hidraw.cpp|std::span<const uint8_t>(buf, static_cast<size_t>(n))|std::span<const uint8_t>(buf + 1, static_cast<size_t>(n) - 1)|hil_hidraw_uhid|the raw back end drops the report-ID byte"
-  "hidraw-noloss|platform/pen_hidraw.cpp|if (n < 0) {|if (n < -1) {|hil_hidraw_uhid|the raw back end does not notice an unplug"
-  "hidraw-sysfs|platform/pen_hidraw.cpp|\"/device/report_descriptor\"|\"/device/uevent\"|hil_hidraw_uhid|the report descriptor is read from the wrong sysfs file"
-  "usb-string|platform/usb_uclogic.cpp|{kUclogicV2StringIndex, kUclogicV1StringIndex}|{uint8_t{201}, uint8_t{101}}|hil_usb_gadget|the handshake reads the wrong string descriptors"
-  "probe-nohandshake|platform/pen_probe.cpp|info.interfaceNumber <= 0|info.interfaceNumber < 0|hil_usb_gadget|the probe skips the UC-Logic handshake on interface 0"
-  "gpio-polarity|platform/buttons_gpio.cpp|b.activeLow ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0|0|hil_gpio_cp2112|the GPIO back end ignores active_low"
-  "gpio-edges|platform/buttons_gpio.cpp|== GPIOD_LINE_EVENT_RISING_EDGE|== GPIOD_LINE_EVENT_FALLING_EDGE|hil_gpio_cp2112|the GPIO back end reads edges the wrong way round"
+  "evdev-range|platform/pen/pen_evdev.cpp|a->minimum, a->maximum,|a->minimum, a->maximum + 100,|hil_evdev_uinput|the evdev back end misreads the axis ranges"
+  "evdev-nograb|platform/pen/pen_evdev.cpp|if (grab) {|if (false) {|hil_evdev_uinput|the evdev back end does not grab the tablet"
+  "hidraw-offset|platform/pen/pen_hidraw.cpp|std::span<const uint8_t>(buf, static_cast<size_t>(n))|std::span<const uint8_t>(buf + 1, static_cast<size_t>(n) - 1)|hil_hidraw_uhid|the raw back end drops the report-ID byte"
+  "hidraw-noloss|platform/pen/pen_hidraw.cpp|if (n < 0) {|if (n < -1) {|hil_hidraw_uhid|the raw back end does not notice an unplug"
+  "hidraw-sysfs|platform/pen/pen_hidraw.cpp|\"/device/report_descriptor\"|\"/device/uevent\"|hil_hidraw_uhid|the report descriptor is read from the wrong sysfs file"
+  "usb-string|platform/pen/usb_uclogic.cpp|{kUclogicV2StringIndex, kUclogicV1StringIndex}|{uint8_t{201}, uint8_t{101}}|hil_usb_gadget|the handshake reads the wrong string descriptors"
+  "probe-nohandshake|platform/pen/pen_probe.cpp|info.interfaceNumber <= 0|info.interfaceNumber < 0|hil_usb_gadget|the probe skips the UC-Logic handshake on interface 0"
+  "gpio-polarity|platform/gpio/buttons_gpio.cpp|b.activeLow ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0|0|hil_gpio_cp2112|the GPIO back end ignores active_low"
+  "gpio-edges|platform/gpio/buttons_gpio.cpp|== GPIOD_LINE_EVENT_RISING_EDGE|== GPIOD_LINE_EVENT_FALLING_EDGE|hil_gpio_cp2112|the GPIO back end reads edges the wrong way round"
+  "gpio-levels-inverted|platform/gpio/buttons_gpio.cpp|if ((value == 1) != last[i]) {|if ((value == 0) != last[i]) {|hil_gpio_cp2112|the level reader reads the levels the wrong way round"
+  "gpio-removable-edges|platform/gpio/buttons_gpio.cpp|(config.read == GpioRead::Auto && removable)|false|hil_gpio_cp2112|the kiosk holds interrupts on a chip that can be unplugged"
   "gestures-nodebounce|src/devices/button_gestures.cpp|b.debounceS = std::max(0.0, line.debounceS);|b.debounceS = 0.0;|hil_gpio_cp2112|the button logic does not debounce"
-  "camera-width|platform/camera_v4l2.cpp|return yuyvToRgba(std::span(data, bytes), width_, height_|return yuyvToRgba(std::span(data, bytes), width_ / 2, height_|hil_camera_vivid|the camera converts frames at the wrong width"
-  "camera-node|platform/camera_v4l2.cpp|if (device_ != \"auto\") return openNode(device_);|if (device_ != \"auto\") return openNode(\"/dev/video1\");|hil_camera_vivid|the camera opens the wrong node"
+  "camera-width|platform/camera/camera_v4l2.cpp|return yuyvToRgba(std::span(data, bytes), width_, height_|return yuyvToRgba(std::span(data, bytes), width_ / 2, height_|hil_camera_vivid|the camera converts frames at the wrong width"
+  "camera-node|platform/camera/camera_v4l2.cpp|if (device_ != \"auto\") return openNode(device_);|if (device_ != \"auto\") return openNode(\"/dev/video1\");|hil_camera_vivid|the camera opens the wrong node"
 )
 
 hil_prepare || { echo "hil: this machine cannot run the HIL virtual machine"; exit 77; }

@@ -83,6 +83,17 @@ TEST(ButtonsConfig, PerButtonSettingsOverrideTheDefaults) {
   EXPECT_FALSE(c->buttons[1].activeLow);
 }
 
+TEST(ButtonsConfig, HowTheLinesAreReadIsAutoEdgesOrLevels) {
+  auto plain = parseButtonConfig(R"({"buttons": [{"line": 3, "action": "turn"}]})");
+  ASSERT_TRUE(plain) << plain.error();
+  EXPECT_EQ(plain->read, GpioRead::Auto);
+  for (GpioRead r : {GpioRead::Auto, GpioRead::Edges, GpioRead::Levels}) {
+    auto c = parseButtonConfig(std::string(R"({"read": ")") + gpioReadName(r) + R"(", "buttons": [{"line": 3, "action": "turn"}]})");
+    ASSERT_TRUE(c) << c.error();
+    EXPECT_EQ(c->read, r) << gpioReadName(r);
+  }
+}
+
 TEST(ButtonsConfig, MistakesSayWhereAndWhat) {
   struct Case {
     const char* text;
@@ -113,6 +124,8 @@ TEST(ButtonsConfig, MistakesSayWhereAndWhat) {
           "chords": [{"buttons": ["undo", "redo"]}, {"buttons": ["undo", "turn"]}]})",
        "already in chords[0]"},
       {R"({"buttons": [{"line": 2, "action": "undo"}], "colour": "red"})", "unknown key 'colour'"},
+      {R"({"read": "interrupts", "buttons": [{"line": 2, "action": "undo"}]})", "read: \"interrupts\" is not one of \"auto\", \"edges\", \"levels\""},
+      {R"({"buttons": [{"line": 2, "action": "undo", "read": "levels"}]})", "buttons[0]: unknown key 'read'"},
   };
   for (const auto& c : cases) {
     const std::string e = errorOf(c.text);

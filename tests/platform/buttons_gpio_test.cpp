@@ -3,12 +3,15 @@
 
 #include <poll.h>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <thread>
 
-#include "buttons_gpio.h"
-#include "buttons_null.h"
+#include "gpio/buttons_gpio.h"
+#include "gpio/buttons_null.h"
 #include "devices/button_config.h"
 
 namespace emboss {
@@ -28,6 +31,40 @@ TEST(ButtonsGpio, TheNullTwinNeverFails) {
   EXPECT_TRUE(out.empty());
   EXPECT_EQ(none.fd(), -1);
   EXPECT_EQ(none.name(), "none");
+}
+
+// A sysfs tree in a temporary folder: a board's own chip, a CP2112 on USB (its HID device below the
+// USB interface), and one over uhid (a HID device with no USB above it).
+TEST(ButtonsGpio, AChipOnUsbOrHidIsRemovable) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / ("emboss-sysfs-" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  const auto device = [&](const std::string& path, const std::string& subsystem) {
+    fs::create_directories(root / "devices" / path);
+    fs::create_directories(root / "bus" / subsystem);
+    fs::create_directory_symlink(root / "bus" / subsystem, root / "devices" / path / "subsystem");
+  };
+  const auto chip = [&](const std::string& path, const std::string& name) {
+    device(path + "/" + name, "gpio");
+    fs::create_directories(root / "bus/gpio/devices");
+    fs::create_directory_symlink(root / "devices" / path / name, root / "bus/gpio/devices" / name);
+  };
+  device("platform/soc", "platform");
+  device("platform/soc/fe200000.gpio", "platform");
+  chip("platform/soc/fe200000.gpio", "gpiochip0");
+  device("pci0000:00/0000:00:14.0/usb1", "usb");
+  device("pci0000:00/0000:00:14.0/usb1/1-1", "usb");
+  device("pci0000:00/0000:00:14.0/usb1/1-1/1-1:1.0", "usb");
+  device("pci0000:00/0000:00:14.0/usb1/1-1/1-1:1.0/0003:10C4:EA90.0001", "hid");
+  chip("pci0000:00/0000:00:14.0/usb1/1-1/1-1:1.0/0003:10C4:EA90.0001", "gpiochip1");
+  device("virtual/misc/uhid", "misc");
+  device("virtual/misc/uhid/0003:10C4:EA90.0002", "hid");
+  chip("virtual/misc/uhid/0003:10C4:EA90.0002", "gpiochip2");
+  EXPECT_FALSE(gpioChipIsRemovable("gpiochip0", root.string()));
+  EXPECT_TRUE(gpioChipIsRemovable("gpiochip1", root.string()));
+  EXPECT_TRUE(gpioChipIsRemovable("gpiochip2", root.string()));
+  EXPECT_FALSE(gpioChipIsRemovable("gpiochip9", root.string()));  // not there
+  fs::remove_all(root);
 }
 
 // Needs a GPIO chip; no line is requested, so it is safe on a running kiosk.

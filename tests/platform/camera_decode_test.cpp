@@ -6,7 +6,7 @@
 
 #include <jpeglib.h>
 
-#include "camera_decode.h"
+#include "camera/camera_decode.h"
 
 namespace emboss {
 namespace {

@@ -1,7 +1,7 @@
 // Tests for the file camera, the camera's replay twin.
 #include <gtest/gtest.h>
 
-#include "camera_file.h"
+#include "camera/camera_file.h"
 #include "test_support.h"
 
 namespace emboss {

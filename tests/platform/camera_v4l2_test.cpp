@@ -1,7 +1,7 @@
 // Tests for the V4L2 camera: clear failures without a camera, and *Hardware* checks that need one.
 #include <gtest/gtest.h>
 
-#include "camera_v4l2.h"
+#include "camera/camera_v4l2.h"
 
 namespace emboss {
 namespace {

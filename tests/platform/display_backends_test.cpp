@@ -19,13 +19,13 @@
 #include <thread>
 #include <vector>
 
-#include "display_factory.h"
-#include "gl_egl.h"
-#include "display_headless.h"
-#include "display_kms.h"
-#include "display_osmesa.h"
-#include "display_x11.h"
-#include "gl_text.h"
+#include "display/display_factory.h"
+#include "gl/gl_egl.h"
+#include "display/display_headless.h"
+#include "display/display_kms.h"
+#include "display/display_osmesa.h"
+#include "display/display_x11.h"
+#include "gl/gl_text.h"
 #include "test_support.h"
 
 // Xlib last: its macros (Status, Bool, None) must not reach the headers above.

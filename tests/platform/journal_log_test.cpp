@@ -1,5 +1,5 @@
 // Whether stderr is the journal: JOURNAL_STREAM must name stderr's own device and inode.
-#include "journal_log.h"
+#include "system/journal_log.h"
 
 #include <sys/stat.h>
 #include <unistd.h>

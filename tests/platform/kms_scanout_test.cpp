@@ -12,7 +12,7 @@
 #include <string>
 #include <thread>
 
-#include "kms_scanout.h"
+#include "display/kms_scanout.h"
 
 namespace emboss {
 namespace {

@@ -3,10 +3,10 @@
 
 #include <poll.h>
 
-#include "pen_evdev.h"
-#include "pen_probe.h"
-#include "pen_replay.h"
-#include "usb_uclogic.h"
+#include "pen/pen_evdev.h"
+#include "pen/pen_probe.h"
+#include "pen/pen_replay.h"
+#include "pen/usb_uclogic.h"
 
 namespace emboss {
 namespace {

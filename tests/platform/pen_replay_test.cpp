@@ -1,7 +1,7 @@
 // Tests for the replay pen: real-time pacing against a fake clock, fast replay, and the evemu factory.
 #include <gtest/gtest.h>
 
-#include "pen_replay.h"
+#include "pen/pen_replay.h"
 #include "test_support.h"
 
 namespace emboss {

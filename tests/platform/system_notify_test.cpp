@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "system_notify.h"
+#include "system/system_notify.h"
 #include "test_support.h"
 
 namespace emboss {
