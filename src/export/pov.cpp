@@ -10,6 +10,7 @@
 #include "frep/kernels.h"
 #include "frep/vm_model.h"
 #include "frep/workpieces.h"
+#include "render/shading.h"
 #include "tools/metal.h"
 
 namespace emboss {
@@ -245,6 +246,33 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
     ++run;
   }
   flushRun();
+  // The sheet's displacement D (the sum of every run of offsets) and, from it, the cavity term and
+  // how far the tinge settles (shadeMetal: below the front face over tingeDepth, and in the grooves
+  // the cavity finds). POV's z is mirrored: the model's z is -z.
+  if (def == Deformation::Sheet) {
+    out << "#declare Emboss_D = function(x, y) { 0";
+    for (int i = 0; i <= run; ++i) out << " + Emboss_Run" << i << "(x, y, 0)";
+    out << " }\n#declare Emboss_CavityOf = function(depth) { select(depth, 0, 0, depth / (depth + 0.1)) }\n";
+    out << "#declare Emboss_Cavity = function(x, y) { Emboss_CavityOf((0";
+    static constexpr double kDir[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
+                                          {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
+    for (const auto& u : kDir) out << " + Emboss_D(x + " << num(kCavityReach * u[0]) << ", y + " << num(kCavityReach * u[1]) << ")";
+    out << ") / 6 - Emboss_D(x, y)) }\n";
+  } else {
+    out << "#declare Emboss_Cavity = function(x, y) { 0 }\n";
+  }
+  const ShadingParams shadingDefaults{};
+  out << "#declare Emboss_Settle = function(x, y, z) { max(min(max((" << num(model.workpiece().bounds().z1) << " + z) / "
+      << num(shadingDefaults.tingeDepth) << ", 0), 1), Emboss_Cavity(x, y)) }\n";
+  // The tinge of each layer: the scene's over the whole sheet (a quarter of it on open metal), the
+  // brush's where it went (three quarters on open metal), 1 - prod(1 - brush) of its strokes.
+  const Tinge sceneTinge = *tingeByName(scene.tinge);
+  if (sceneTinge.strength > 0)
+    out << "#declare Emboss_Tinge_scene = function(x, y, z) { " << num(sceneTinge.strength) << " * (0.25 + 0.75 * Emboss_Settle(x, y, z)) }\n";
+  for (size_t t = 1; t < patina.size(); ++t)
+    if (!patina[t].empty())
+      out << "#declare Emboss_Tinge_" << tinges()[t].name << " = function(x, y, z) { min(1, (1 - (1" << patina[t]
+          << "))\n  * (0.75 + 0.25 * Emboss_Settle(x, y, z))) }\n";
   const std::string last = "Emboss_Stage" + std::to_string(stage);
   const std::string lastRun = "Emboss_Run" + std::to_string(run);
   out << "#declare Emboss_Function = function(x, y, z) { "
@@ -263,9 +291,7 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
         maxGrad = std::max(maxGrad, std::sqrt(g.dx * g.dx + g.dy * g.dy + g.dz * g.dz));
       }
   const Metal metal = *metalByName(scene.metal);
-  const Tinge tinge = *tingeByName(scene.tinge);
-  double f0[3];
-  for (int k = 0; k < 3; ++k) f0[k] = metal.f0[k] * (1 - tinge.strength * 0.5) + metal.f0[k] * tinge.color[k] * tinge.strength * 0.5;
+  const auto& f0 = metal.f0;
   const double pad = 0.01;
   out << "#declare Emboss_Metal = texture {\n"
       << "  pigment { rgb <" << num(f0[0]) << ", " << num(f0[1]) << ", " << num(f0[2]) << "> }\n"
@@ -276,16 +302,17 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
       << "  contained_by { box { <" << num(b.x0 - pad) << ", " << num(b.y0 - pad) << ", " << num(-b.z1 - pad) << ">, <" << num(b.x1 + pad)
       << ", " << num(b.y1 + pad) << ", " << num(-b.z0 + pad) << "> } }\n"
       << "  max_gradient " << num(maxGrad * 1.5) << "\n  accuracy 0.0005\n  texture { Emboss_Metal }\n";
-  // Each tinge of the brush as a layer that filters what is under it by the tinge's colour, as much
-  // as the brush left there (the renderer also lets it settle into the hollows; POV-Ray does not).
-  for (size_t t = 1; t < patina.size(); ++t) {
-    if (patina[t].empty()) continue;
-    const Tinge& tg = tinges()[t];
-    out << "  texture {\n    pigment { function { 1 - (1" << patina[t] << ") }\n"
-        << "      color_map { [0 rgbf <1, 1, 1, 1>] [1 rgbf <" << num(1 + (tg.color[0] - 1) * tg.strength) << ", "
-        << num(1 + (tg.color[1] - 1) * tg.strength) << ", " << num(1 + (tg.color[2] - 1) * tg.strength) << ", 1>] } }\n"
+  // Each tinge as a layer that filters what is under it by the tinge's colour, as much as it
+  // settled there: the renderer's mix(1, colour, k), layer upon layer.
+  const auto layer = [&](const std::string& function, const Tinge& tg) {
+    out << "  texture {\n    pigment { function { " << function << "(x, y, z) }\n"
+        << "      color_map { [0 rgbf <1, 1, 1, 1>] [1 rgbf <" << num(tg.color[0]) << ", " << num(tg.color[1]) << ", " << num(tg.color[2])
+        << ", 1>] } }\n"
         << "    finish { ambient 0 emission 0 diffuse 0 specular 0 }\n  }\n";
-  }
+  };
+  if (sceneTinge.strength > 0) layer("Emboss_Tinge_scene", sceneTinge);
+  for (size_t t = 1; t < patina.size(); ++t)
+    if (!patina[t].empty()) layer("Emboss_Tinge_" + std::string(tinges()[t].name), tinges()[t]);
   out << "}\n";
 
   // Camera, lights and the object, unless the includer only wants the declarations.

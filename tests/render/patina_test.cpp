@@ -2,7 +2,9 @@
 // settles into the hollows, goes with an undo, and reaches the POV-Ray export.
 #include <cstdlib>
 #include <fstream>
+#include <iomanip>
 #include <random>
+#include <span>
 
 #include <gtest/gtest.h>
 
@@ -176,6 +178,61 @@ TEST(Patina, PovExportLayersTheTinge) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << test::readText(dir / "povray.log");
   auto png = readPng(dir / "pov.png");
   ASSERT_TRUE(png) << png.error();
+}
+
+// POV-Ray evaluates the export's tinge of the brush at points on the sheet: the same as ours, more
+// in the groove than on the open metal beside it.
+TEST(Patina, PovExportSettlesIntoTheHollows) {
+  std::string text = kScene;
+  text.replace(text.find(R"("metal": "copper",)"), 18, R"("metal": "copper", "tinge": "brown",)");
+  auto scene = parseScene(text, "patina.json", ".");
+  ASSERT_TRUE(scene);
+  auto model = scene->makeModel();
+  ASSERT_TRUE(model);
+  auto pov = exportPov(*scene, *model, {});
+  ASSERT_TRUE(pov) << pov.error();
+  if (std::system("command -v povray >/dev/null 2>&1") != 0) GTEST_SKIP() << "povray is not installed";
+  std::vector<std::uint32_t> all(model->activeCount());
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  const auto D = [&](double x, double y) { return model->displacement(x, y, 0.0, std::span<const std::uint32_t>(all)); };
+  const Operation& brush = model->operations()[1].op();
+  ASSERT_TRUE(brush.isPatina());
+  const double front = model->workpiece().bounds().z1, depth = ShadingParams{}.tingeDepth;
+  struct Probe {
+    double x, y, z, ours, oursScene;
+  };
+  const Tinge brown = *tingeByName("brown");
+  std::vector<Probe> probes;
+  for (double y : {0.0, 0.4, 0.8, 1.2, 2.0, 3.0}) {
+    const double x = 1.3, z = front + D(x, y);  // on the front face, moved by the sheet
+    const double settle = std::max(std::clamp((front - z) / depth, 0.0, 1.0), cavityAt(x, y, D));
+    probes.push_back({x, y, z, std::min(1.0, model->operations()[1].patinaAt(x, y) * (0.75 + 0.25 * settle)),
+                      brown.strength * (0.25 + 0.75 * settle)});
+  }
+  const auto dir = test::scratchDir("pov-patina-settle");
+  std::ofstream(dir / "scene.pov") << *pov;
+  {
+    std::ofstream probe(dir / "probe.pov");
+    probe << std::setprecision(17) << "#declare Emboss_Declare_Only = 1;\n#include \"scene.pov\"\n#fopen Out \"values.txt\" write\n";
+    for (const auto& p : probes)
+      for (const char* f : {"Emboss_Tinge_black", "Emboss_Tinge_scene"})
+        probe << "#write (Out, str(" << f << "(" << p.x << ", " << p.y << ", " << -p.z << "), 0, 16), \"\\n\")\n";
+    probe << "#fclose Out\ncamera { location <0, 0, -10> look_at <0, 0, 0> }\n";
+  }
+  const std::string cmd = "cd '" + dir.string() + "' && povray +Iprobe.pov +W2 +H2 -GA +O/dev/null -D -V >povray.log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << test::readText(dir / "povray.log");
+  std::ifstream values(dir / "values.txt");
+  for (const auto& p : probes) {
+    double theirs = -1, theirsScene = -1;
+    ASSERT_TRUE(values >> theirs >> theirsScene) << test::readText(dir / "povray.log");
+    EXPECT_NEAR(theirs, p.ours, 1e-9) << "the brush, at y = " << p.y << " (z " << p.z << ")";
+    EXPECT_NEAR(theirsScene, p.oursScene, 1e-9) << "the scene's tinge, at y = " << p.y << " (z " << p.z << ")";
+  }
+  // The groove's floor holds more of the tinge than the open metal 3 mm away, beyond what the
+  // brush's own fall-off gives.
+  const double brushRatio = brush.strength > 0 ? model->operations()[1].patinaAt(1.3, 3.0) / model->operations()[1].patinaAt(1.3, 0.0) : 1.0;
+  EXPECT_LT(probes.back().ours / probes.front().ours, brushRatio * 0.8);
+  EXPECT_GT(probes.front().z, -1.0);  // sanity: the probes are on the sheet
 }
 
 }  // namespace
