@@ -2,6 +2,7 @@
 #include "bench/soak.h"
 
 #include <dirent.h>
+#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -35,6 +36,16 @@ long statusKib(const char* key) {
 
 long residentKib() { return statusKib("VmRSS:"); }
 long peakResidentKib() { return statusKib("VmHWM:"); }
+// What the program holds on the heap (glibc: the arenas' blocks in use plus the mapped ones), or -1
+// elsewhere: a leak raises it, fragmentation (resident memory the allocator keeps) does not.
+double heapInUseMb() {
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd) / 1048576.0;
+#else
+  return -1.0;
+#endif
+}
 
 long openFds() {
   DIR* d = ::opendir("/proc/self/fd");
@@ -79,8 +90,8 @@ class Soak {
     const size_t warmup = o_.warmup ? o_.warmup : o_.strokes / 10;
     std::fprintf(out_, "soak: %zu strokes, %dx%d, %d render thread%s; baseline after %zu strokes\n\n", o_.strokes, o_.width,
                  o_.height, o_.threads, o_.threads == 1 ? "" : "s", warmup);
-    std::fprintf(out_, "| strokes | visitors | restores | resets | attract cycles | attract pieces | RSS MB | peak RSS MB | fds | journal MB | session files MB | s |\n");
-    std::fprintf(out_, "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    std::fprintf(out_, "| strokes | visitors | restores | resets | attract cycles | attract pieces | RSS MB | RSS since the last row, lowest .. highest | heap in use since the last row, lowest .. highest | peak RSS MB | fds | journal MB | session files MB | s |\n");
+    std::fprintf(out_, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     row();
     size_t nextRow = every;
     long baseFd = -1;
@@ -98,6 +109,10 @@ class Soak {
         }
         rss.emplace_back(strokes_, residentKib());
       }
+      // Every visitor's reading goes into the row's range (the table shows the whole run's trend).
+      const double rssMb = residentKib() / 1024.0, heapMb = heapInUseMb();
+      rowRss_ = {std::min(rowRss_.first, rssMb), std::max(rowRss_.second, rssMb)};
+      rowHeap_ = {std::min(rowHeap_.first, heapMb), std::max(rowHeap_.second, heapMb)};
       if (strokes_ >= nextRow || strokes_ >= o_.strokes) {
         row();
         while (nextRow <= strokes_) nextRow += every;
@@ -218,10 +233,18 @@ class Soak {
 
   void row() {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-    std::fprintf(out_, "| %zu | %zu | %zu | %zu | %zu | %zu | %.1f | %.1f | %ld | %.1f | %.1f | %.0f |\n", strokes_, visitors_, restores_,
-                 resets_, attractCycles_, piecesPlayed_, residentKib() / 1024.0, peakResidentKib() / 1024.0, openFds(), bytesOf(config_.sessionsDir, true) / 1048576.0,
+    const auto range = [](const std::pair<double, double>& r) {
+      char b[48];
+      if (r.first > r.second) return std::string("-");
+      std::snprintf(b, sizeof b, "%.1f .. %.1f", r.first, r.second);
+      return std::string(b);
+    };
+    std::fprintf(out_, "| %zu | %zu | %zu | %zu | %zu | %zu | %.1f | %s | %s | %.1f | %ld | %.1f | %.1f | %.0f |\n", strokes_, visitors_,
+                 restores_, resets_, attractCycles_, piecesPlayed_, residentKib() / 1024.0, range(rowRss_).c_str(),
+                 range(rowHeap_).c_str(), peakResidentKib() / 1024.0, openFds(), bytesOf(config_.sessionsDir, true) / 1048576.0,
                  bytesOf(config_.sessionsDir, false) / 1048576.0, s);
     std::fflush(out_);
+    rowRss_ = rowHeap_ = {1e300, -1e300};
   }
 
   SoakOptions o_;
@@ -236,6 +259,7 @@ class Soak {
   double t_ = 1000.0;
   size_t strokes_ = 0, visitors_ = 0, attractCycles_ = 0, restores_ = 0, resets_ = 0, piecesPlayed_ = 0, restoreMismatches_ = 0;
   size_t lastPiece_ = 0;
+  std::pair<double, double> rowRss_{1e300, -1e300}, rowHeap_{1e300, -1e300};  // MB, over the visitors since the last row
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };
 
