@@ -265,6 +265,16 @@ double HeightField::value(double x, double y) const {
   return bv.h0 * a0 + bv.h1 * a1 + s * (bv.g0 * b0 + bv.g1 * b1);
 }
 
+double HeightField::valueBilinear(double x, double y) const {
+  const double fx = std::clamp((x - x0_) * invS_, 0.0, nx_ - 1.0), fy = std::clamp((y - y0_) * invS_, 0.0, ny_ - 1.0);
+  const int i = std::min(static_cast<int>(fx), nx_ - 2), j = std::min(static_cast<int>(fy), ny_ - 2);
+  const double u = fx - i, v = fy - j;
+  const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
+  const Sample* r1 = r0 + nx_;
+  const double a = r0[0].d + u * (r0[1].d - r0[0].d), b = r1[0].d + u * (r1[1].d - r1[0].d);
+  return a + v * (b - a);
+}
+
 void HeightField::valueAndGradient(double x, double y, double& v, double& gx, double& gy) const {
   const double fx = (x - x0_) * invS_, fy = (y - y0_) * invS_;
   const int i = std::clamp(static_cast<int>(fx), 0, nx_ - 2), j = std::clamp(static_cast<int>(fy), 0, ny_ - 2);

@@ -87,6 +87,9 @@ class HeightField {
   // D at (x, y) (inside domain()); with its gradient.
   double value(double x, double y) const;
   void valueAndGradient(double x, double y, double& v, double& gx, double& gy) const;
+  // D bilinear between the four samples around (x, y) (clamped to the domain): about a third of
+  // value()'s work, for what needs D only roughly (the shading's cavity term).
+  double valueBilinear(double x, double y) const;
   // Bounds over a box inside domain() (callers check containsBox()).
   Bound bound(const Box2& b) const;
   // Bounds over the whole lattice.

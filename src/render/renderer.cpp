@@ -129,10 +129,7 @@ glm::dvec3 Renderer::sample(double sx, double sy, bool field, RenderStats& st, s
   if (!hit) return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
   double cavity = 0.0;
   if (field) {
-    const Box2 dom = field_.domain();
-    cavity = cavityAt(hit->p.x, hit->p.y, [&](double x, double y) {
-      return field_.value(std::clamp(x, dom.x0, dom.x1), std::clamp(y, dom.y0, dom.y1));
-    });
+    cavity = cavityAt(hit->p.x, hit->p.y, [&](double x, double y) { return field_.valueBilinear(x, y); });
   }
   Patina patina{};
   if (hasPatina_) {
