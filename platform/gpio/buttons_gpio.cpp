@@ -108,8 +108,7 @@ GpioButtons::~GpioButtons() {
   }
 }
 
-void GpioButtons::readLevels() {
-  std::vector<bool> last = levels_;  // as opened
+void GpioButtons::readLevels(std::vector<bool> last) {
   std::unique_lock<std::mutex> lock(levelMutex_);
   while (!stopReader_.wait_for(lock, std::chrono::duration<double>(kLevelPeriodS), [this] { return stopping_; })) {
     lock.unlock();
@@ -229,7 +228,7 @@ Result<std::unique_ptr<ButtonSource>> openGpioButtons(const ButtonConfig& config
   for (const auto& c : chipNames) chips += (chips.empty() ? "" : ", ") + c;
   self->name_ = "gpio: " + std::to_string(config.buttons.size()) + " buttons on " + chips;
   if (std::any_of(self->lines_.begin(), self->lines_.end(), [](const GpioButtons::Line& l) { return l.levels; }))
-    self->reader_ = std::thread([p = self.get()] { p->readLevels(); });
+    self->reader_ = std::thread([p = self.get(), opened = self->levels_]() mutable { p->readLevels(std::move(opened)); });
   return std::unique_ptr<ButtonSource>(std::move(self));
 }
 

@@ -71,9 +71,10 @@ class GpioButtons final : public ButtonSource {
   };
   friend Result<std::unique_ptr<ButtonSource>> openGpioButtons(const ButtonConfig& config);
   explicit GpioButtons(const ButtonConfig& config);
-  // The reader thread of the lines read as levels: every 20 ms, a change is an edge at the time of
-  // the read; a failed read marks the source lost.
-  void readLevels();
+  // The reader thread of the lines read as levels: every 20 ms, a change against `last` (the levels
+  // as opened, then as last read) is an edge at the time of the read; a failed read marks the
+  // source lost. It touches lines_ (read only) and, under levelMutex_, what it hands over.
+  void readLevels(std::vector<bool> last);
 
   std::vector<std::unique_ptr<gpiod_chip, ChipClose>> chips_;
   std::vector<Line> lines_;
