@@ -11,6 +11,8 @@ namespace emboss {
 void tuneHeapForKiosk();
 // When a visitor has left: the free pages of every arena go back to the system (malloc_trim).
 void releaseFreeHeap();
+// True where the two calls above do something (glibc).
+bool heapReleaseWorks();
 
 inline constexpr int kHeapMmapThreshold = 1 << 20;
 
