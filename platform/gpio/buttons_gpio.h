@@ -22,9 +22,9 @@ struct gpiod_line;
 namespace emboss {
 
 // Requests every configured line (active-low and bias as configured, consumer "emboss"), for both
-// edges or as an input whose level is read, as ButtonConfig::read says, and returns the source. Fails with a message a person can act on: no /dev/gpiochip* at
-// all ("the keyboard stands in"), an unknown chip, a line the chip does not have, a line in use, no
-// permission. The caller falls back to the keyboard and may try again later.
+// edges or as an input whose level is read, as ButtonConfig::read says, and returns the source.
+// Fails with a message a person can act on: no /dev/gpiochip* at all ("the keyboard stands in"),
+// an unknown chip, a line the chip does not have, a line in use, no permission. The caller falls back to the keyboard and may try again later.
 Result<std::unique_ptr<ButtonSource>> openGpioButtons(const ButtonConfig& config);
 
 // The /dev/gpiochip* nodes, in numeric order.
@@ -42,8 +42,8 @@ class GpioButtons final : public ButtonSource {
 
   std::string name() const override { return name_; }
   // Reads the pending edges, and the changes of the lines read as levels (a thread of its own reads
-  // those every 20 ms, so a short press is not lost while the main loop is busy), feeds them through the debounce and gesture logic and appends what became events by
-  // now. False once a chip is gone (a USB GPIO adapter unplugged: the line descriptors report
+  // those every 20 ms, so a short press is not lost while the main loop is busy), feeds them
+  // through the debounce and gesture logic and appends what became events by now. False once a chip is gone (a USB GPIO adapter unplugged: the line descriptors report
   // POLLHUP/POLLERR, a level read fails with ENODEV); the caller then drops the source and calls
   // openGpioButtons again later.
   // Call it on every main-loop turn (not only when fd() is readable): long presses and debounce

@@ -102,15 +102,14 @@ class Soak {
       // memory swings by tens of MB with what was shown last (the attract piece's field, a restart),
       // so the verdict compares the lowest and the highest reading of the first window after the
       // warm-up with those of the last window: a leak lifts both.
-      if (strokes_ >= warmup) {
-        if (baseFd < 0) {
-          baseFd = openFds();
-          if (warmup > 0 && strokes_ < nextRow) row();
-        }
-        rss.emplace_back(strokes_, residentKib());
+      if (strokes_ >= warmup && baseFd < 0) {
+        baseFd = openFds();
+        if (warmup > 0 && strokes_ < nextRow) row();
       }
       // Every visitor's reading goes into the row's range (the table shows the whole run's trend).
-      const double rssMb = residentKib() / 1024.0, heapMb = heapInUseMb();
+      const long rssKib = residentKib();
+      if (strokes_ >= warmup) rss.emplace_back(strokes_, rssKib);
+      const double rssMb = rssKib / 1024.0, heapMb = heapInUseMb();
       rowRss_ = {std::min(rowRss_.first, rssMb), std::max(rowRss_.second, rssMb)};
       rowHeap_ = {std::min(rowHeap_.first, heapMb), std::max(rowHeap_.second, heapMb)};
       if (strokes_ >= nextRow || strokes_ >= o_.strokes) {

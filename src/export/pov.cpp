@@ -252,11 +252,9 @@ Result<std::string> exportPov(const Scene& scene, const Model& model, const PovE
   if (def == Deformation::Sheet) {
     out << "#declare Emboss_D = function(x, y) { 0";
     for (int i = 0; i <= run; ++i) out << " + Emboss_Run" << i << "(x, y, 0)";
-    out << " }\n#declare Emboss_CavityOf = function(depth) { select(depth, 0, 0, depth / (depth + 0.1)) }\n";
+    out << " }\n#declare Emboss_CavityOf = function(depth) { select(depth, 0, 0, depth / (depth + " << num(kCavityHalfDepth) << ")) }\n";
     out << "#declare Emboss_Cavity = function(x, y) { Emboss_CavityOf((0";
-    static constexpr double kDir[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
-                                          {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
-    for (const auto& u : kDir) out << " + Emboss_D(x + " << num(kCavityReach * u[0]) << ", y + " << num(kCavityReach * u[1]) << ")";
+    for (const auto& u : kCavityRing) out << " + Emboss_D(x + " << num(kCavityReach * u[0]) << ", y + " << num(kCavityReach * u[1]) << ")";
     out << ") / 6 - Emboss_D(x, y)) }\n";
   } else {
     out << "#declare Emboss_Cavity = function(x, y) { 0 }\n";

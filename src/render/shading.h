@@ -43,6 +43,11 @@ glm::dvec3 metalAlbedo(const Metal& metal, double cosView);
 // How far (x, y) lies in a cavity of the displacement D: 0 on open or convex metal, towards 1 at
 // the bottom of a groove or at the foot of a raised rim. Reads D within kCavityReach of (x, y).
 inline constexpr double kCavityReach = 1.1;  // mm
+// The ring's six directions (unit vectors, every 60 degrees), and the depth below the ring's mean
+// that is half occluded; the POV-Ray export writes the same term as a function of its own.
+inline constexpr double kCavityRing[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
+                                             {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
+inline constexpr double kCavityHalfDepth = 0.1;  // mm
 template <class D>
 double cavityAt(double x, double y, const D& displacement);
 // Radiance of the studio the metal reflects, by direction (x right, y up the bench, z toward the
@@ -58,13 +63,11 @@ template <class D>
 double cavityAt(double x, double y, const D& displacement) {
   // D at the point against its mean on a ring of six at kCavityReach: a groove, a dent, the foot
   // of a raised rim. (Seven lookups a hit: each is a cache miss in a large field.)
-  static constexpr double kDir[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
-                                        {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
   const double d = displacement(x, y);
   double ring = 0.0;
-  for (const auto& u : kDir) ring += displacement(x + kCavityReach * u[0], y + kCavityReach * u[1]);
+  for (const auto& u : kCavityRing) ring += displacement(x + kCavityReach * u[0], y + kCavityReach * u[1]);
   const double depth = ring / 6.0 - d;
-  return depth <= 0 ? 0.0 : depth / (depth + 0.1);  // 0.1 mm below its surroundings: half occluded
+  return depth <= 0 ? 0.0 : depth / (depth + kCavityHalfDepth);
 }
 
 }  // namespace emboss
