@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
   cli.add_option("--attract-every", o.attractEvery, "Attract plays after every N-th visitor (default 10; 0: never)");
   cli.add_option("--restart-every", o.restartEvery, "Kill and restart the kiosk mid-session every N-th visitor (default 7; 0: never)");
   cli.add_option("--seed", o.seed, "The visitors' random seed");
+  cli.add_option("--leak-kib-per-visitor", o.leakKibPerVisitor,
+                 "Hold this many KiB more after every visitor, on purpose: shows that the verdict catches a leak (default 0)");
   cli.set_version_flag("--version", std::string("emboss-soak ") + emboss::versionString());
   try {
     cli.parse(argc, argv);

@@ -70,6 +70,20 @@ FrameComposer::Slot& FrameComposer::slotFor(const Model& model) {
   return *best;  // the one used longest ago follows the new model (from scratch)
 }
 
+void FrameComposer::release(const Model& model) {
+  for (Slot& s : slots_)
+    if (s.model == &model) {
+      s.renderer->sync(model);
+      if (&s == slot_) revision_ = model.revision();
+    }
+}
+
+size_t FrameComposer::memoryBytes() const {
+  size_t n = 0;
+  for (const Slot& s : slots_) n += s.renderer->memoryBytes();
+  return n;
+}
+
 void FrameComposer::show(const Model& model, const CameraSpec& camera, const ShadingParams& shading,
                          const ViewChanges& changes, bool moving) {
   bool full = changes.full || &model != model_;

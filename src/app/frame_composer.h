@@ -34,6 +34,13 @@ class FrameComposer {
   void show(const Model& model, const CameraSpec& camera, const ShadingParams& shading, const ViewChanges& changes,
             bool moving);
 
+  // The renderer that follows `model`, if one does, catches up with it now, though another model
+  // is shown: what it held for operations the model no longer has (their index lists, a set
+  // operation's field) goes back. For the bench cleared when a visitor leaves.
+  void release(const Model& model);
+  // The bytes its renderers hold for the models they follow (Renderer::memoryBytes).
+  size_t memoryBytes() const;
+
   // Traces dirty rectangles (always all of them: they are what the visitor just did), then
   // refinement bands until about `budgetMs` have passed. Appends the rectangles of frame() that
   // changed.

@@ -179,6 +179,7 @@ void KioskApp::handleEvents(double now) {
         saveSession("the visitor left");
         discardCapture("the visitor left");
         bench_->resetForVisitor(now);
+        composer_->release(bench_->model());  // the piece's index and fields go, not only its operations
         startAttract(now, attract_->empty() ? 0 : (attract_->pieceIndex() + 1) % attract_->size(), 0.0);
         releaseFreeHeap();  // a quiet moment: what the visitor's piece held goes back to the system
         break;

@@ -16,7 +16,8 @@ void OpGrid::build(const Model& model) {
   y0_ = b.y0 - 8 * cell_;
   nx_ = static_cast<int>(std::ceil(sx / cell_)) + 16;
   ny_ = static_cast<int>(std::ceil(sy / cell_)) + 16;
-  cells_.assign(static_cast<size_t>(nx_) * ny_, {});
+  // A new vector of empty lists: assigning empty lists over the old ones would keep their storage.
+  std::vector<std::vector<std::uint32_t>>(static_cast<size_t>(nx_) * ny_).swap(cells_);
   ids_.clear();
   supports_.clear();
   workpiece_ = model.workpiecePtr();
@@ -64,7 +65,13 @@ size_t OpGrid::sync(const Model& model) {
   // The first index where the model differs from what is indexed.
   size_t k = 0;
   while (k < ids_.size() && k < ids.size() && ids_[k] == ids[k]) ++k;
-  for (size_t i = ids_.size(); i-- > k;) remove(static_cast<std::uint32_t>(i), supports_[i]);
+  if (k == 0 && !ids_.empty()) {
+    // Nothing is kept (a new sheet, a new visitor, the next attract piece): new empty lists at once,
+    // so that what the last piece's lists held goes back to the allocator, not kept per cell.
+    std::vector<std::vector<std::uint32_t>>(cells_.size()).swap(cells_);
+  } else {
+    for (size_t i = ids_.size(); i-- > k;) remove(static_cast<std::uint32_t>(i), supports_[i]);
+  }
   ids_.resize(k);
   supports_.resize(k);
   size_t inserted = 0;
@@ -104,6 +111,12 @@ std::span<const std::uint32_t> OpGrid::in(const Box2& box, std::vector<std::uint
   std::sort(scratch.begin(), scratch.end());
   scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
   return scratch;
+}
+
+size_t OpGrid::memoryBytes() const {
+  size_t n = cells_.capacity() * sizeof(cells_[0]) + ids_.capacity() * sizeof(ids_[0]) + supports_.capacity() * sizeof(supports_[0]);
+  for (const auto& c : cells_) n += c.capacity() * sizeof(std::uint32_t);
+  return n;
 }
 
 double OpGrid::meanListLength() const {

@@ -33,6 +33,8 @@ class OpGrid {
   size_t cellCount() const { return cells_.size(); }
   // Mean list length over the cells that hold anything (for --stats).
   double meanListLength() const;
+  // The bytes the index holds: its cells and their lists' storage (capacity, not size).
+  size_t memoryBytes() const;
 
  private:
   void build(const Model& model);

@@ -99,6 +99,9 @@ class Renderer {
     long samplesUpdated = 0;   // field samples added to or recomputed
   };
   const SyncInfo& lastSync() const { return lastSync_; }
+  // The bytes held for the model followed: the height field, the index, the set operations'
+  // shift fields.
+  size_t memoryBytes() const;
 
  private:
   struct Hit {

@@ -35,6 +35,13 @@ void Renderer::sync(const Model& model) {
   for (size_t i = 0; i < model.activeCount() && !hasPatina_; ++i) hasPatina_ = model.operations()[i].op().isPatina();
 }
 
+size_t Renderer::memoryBytes() const {
+  size_t n = field_.memoryBytes() + grid_.memoryBytes();
+  for (const SetOp& s : setOps_)
+    if (s.shift) n += s.shift->memoryBytes();
+  return n;
+}
+
 void Renderer::rebuildField(const Model& model) {
   const Box3 wb = model.workpiece().bounds();
   const Box2 domain = wb.xy().grown(kFieldMargin);

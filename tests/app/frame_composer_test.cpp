@@ -30,6 +30,57 @@ Operation punch(double x, double y) {
   return op;
 }
 
+Operation sphereOn(double x, double y) {
+  Operation op;
+  op.kind = OpKind::BlendUnion;
+  op.tool.type = ToolShape::Type::Sphere;
+  op.tool.center = {x, y, 0.5};
+  op.tool.r = 2.0;
+  op.a1 = 0.5, op.a2 = 1.0, op.a3 = 1.0;
+  return op;
+}
+
+// A model cleared while another is shown (the bench when a visitor leaves and attract mode plays):
+// release() lets its renderer give back what it held for the piece (index lists, set operations'
+// fields); without it they stay until the bench is shown again.
+TEST(FrameComposer, ReleaseGivesBackWhatAClearedModelHeld) {
+  ThreadPool pool(2);
+  FrameComposer fc(pool, kW, kH);
+  Model bench(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  Model attract(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  const CameraSpec home = benchCamera(bench.workpiece().bounds(), kW, kH);
+  ShadingParams sh;
+  sh.metal = *metalByName("copper");
+  sh.tinge = tinges()[0];
+  sh.frontZ = 0.5;
+  std::vector<Rect> changed;
+  fc.show(bench, home, sh, {true, false, {}}, false);
+  fc.flush(changed);
+  const size_t blank = fc.memoryBytes();
+  for (int i = 0; i < 40; ++i) {
+    ASSERT_TRUE(bench.add(punch(-25 + 1.2 * i, -10 + 0.5 * i)));
+    if (i % 8 == 0) ASSERT_TRUE(bench.add(sphereOn(-20 + i, 5)));
+  }
+  fc.show(bench, home, sh, {true, false, {}}, false);
+  fc.flush(changed);
+  const size_t worked = fc.memoryBytes();
+  ASSERT_GT(worked, blank + 1000000) << "five set operations' fields and the index";
+  fc.show(attract, home, sh, {true, false, {}}, false);  // attract mode plays
+  fc.flush(changed);
+  const size_t both = fc.memoryBytes();
+  bench.clear();  // the visitor left
+  EXPECT_EQ(fc.memoryBytes(), both) << "nothing is given back until the renderer catches up";
+  fc.release(bench);
+  // What is left: two blank sheets' fields and indexes.
+  EXPECT_LT(fc.memoryBytes(), both - (worked - blank) + 4096);
+  EXPECT_LE(fc.memoryBytes(), 2 * blank + 4096);  // the index keeps its id and support lists' capacity
+  // The bench shown again (the next visitor) is rendered as a full render would.
+  ASSERT_TRUE(bench.add(punch(0, 0)));
+  fc.show(bench, home, sh, {true, false, {}}, false);
+  fc.flush(changed);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, bench, home, sh).rgba);
+}
+
 TEST(FrameComposer, FinishedFrameEqualsAFullRender) {
   ThreadPool pool(2);
   FrameComposer fc(pool, kW, kH);

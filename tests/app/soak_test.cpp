@@ -34,5 +34,29 @@ TEST(KioskSoakSlow, AShortRunKeepsItsDescriptorsAndBringsEveryRestoreBack) {
   EXPECT_GT(openFds(), 2);  // stdin, stdout, stderr at least
 }
 
+// The verdict's rule catches a leak: 1 MiB held after every visitor (about ten visitors between the
+// first window and the last) fails it, while the descriptors and the restores still pass.
+TEST(KioskSoakSlow, TheVerdictCatchesALeak) {
+  SoakOptions o;
+  o.strokes = 2400;
+  o.reportEvery = 800;
+  o.warmup = 100;
+  o.attractEvery = 3;
+  o.attractSeconds = 1;
+  o.leakKibPerVisitor = 1024;
+  o.dir = test::scratchDir("soak-leak");
+  std::FILE* out = std::tmpfile();
+  ASSERT_NE(out, nullptr);
+  const SoakResult r = runSoak(o, out);
+  std::rewind(out);
+  std::string text;
+  for (int c; (c = std::fgetc(out)) != EOF;) text += char(c);
+  std::fclose(out);
+  EXPECT_FALSE(r.pass) << text;
+  EXPECT_GT(r.settledGrowthMb, 5.0) << text;
+  EXPECT_EQ(r.fdGrowth, 0) << text;
+  EXPECT_NE(text.find("soak: FAIL"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace emboss

@@ -62,5 +62,29 @@ TEST(OpGrid, FollowsEditsIncrementally) {
   checkAt(grid, m, rng);
 }
 
+// A cleared model (a new sheet, a new visitor, the next attract piece) leaves the index as small
+// as a new one: the cells' lists do not keep the storage the last piece needed.
+TEST(OpGrid, AClearedModelGivesBackTheListsStorage) {
+  PieceOptions opt;
+  opt.width = 100, opt.height = 70;
+  const GeneratedPiece piece = generatePiece(400, 22, opt);
+  Model m(piece.workpiece, piece.deformation);
+  OpGrid grid;
+  grid.sync(m);
+  const size_t empty = grid.memoryBytes();
+  for (const Operation& op : piece.operations) ASSERT_TRUE(m.add(op).ok());
+  grid.sync(m);
+  ASSERT_GT(grid.memoryBytes(), empty + 100000);
+  m.clear();
+  EXPECT_EQ(grid.sync(m), 0u);
+  EXPECT_LE(grid.memoryBytes(), empty + 2 * 400 * (sizeof(std::uint64_t) + sizeof(Box2)));  // the id and support lists keep their capacity
+  std::mt19937 rng(6);
+  checkAt(grid, m, rng);
+  // And it follows the next piece as before.
+  for (size_t k = 0; k < 50; ++k) ASSERT_TRUE(m.add(piece.operations[k]).ok());
+  EXPECT_EQ(grid.sync(m), 50u);
+  checkAt(grid, m, rng);
+}
+
 }  // namespace
 }  // namespace emboss
