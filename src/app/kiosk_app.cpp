@@ -357,7 +357,8 @@ void KioskApp::present(double now, std::vector<Rect>& changed, bool modelChanged
   }
   firstPresent_ = false;
   const double t = clock_();
-  lastPresent_ = t;
+  if (t >= nextAnimation_)  // the next tick of the grid; a new grid after a stall of more than a period
+    nextAnimation_ = t - nextAnimation_ > kAnimationPeriod ? t + kAnimationPeriod : nextAnimation_ + kAnimationPeriod;
   if (presents_++ == 0 && log_) log_(fmt("first frame on the screen %.1f s after start", t - started_));
   fps_[states_.mode()].frame(t);
   if (!changed.empty()) ++pictureUpdates_;
@@ -375,7 +376,6 @@ bool KioskApp::step() {
   if (const double gap = now - lastStep_; gap > kMaxAttractGap && states_.mode() == KioskMode::Attract && !attract_->empty())
     attract_->hold(gap - kFrameSeconds);
   lastStep_ = now;
-  changed_.clear();
   const size_t queuedBefore = queue_.size();
   pollInput(now);
   bool input = queue_.size() != queuedBefore;
@@ -435,12 +435,22 @@ bool KioskApp::step() {
     composer_->show(attract_->model(), attract_->camera(), attract_->shading(), ch, attract_->moving());
   }
   const Steady::time_point tModel = Steady::now();
-  composer_->work(kBudgetMs, changed_);
-  const Steady::time_point tTrace = Steady::now();
   const bool animated = m != KioskMode::Visitor || capture_.phase == CapturePhase::Running;
-  if (!changed_.empty() || input || firstPresent_ || overlayChanged_ || (animated && clock_() - lastPresent_ >= kAnimationPeriod)) {
+  // Refinement bands fill the step's budget; on an animated screen they stop short of the next
+  // tick of the grid below (the dirty rectangles are traced whatever the budget).
+  const double budgetMs = animated ? std::clamp((nextAnimation_ - clock_()) * 1000.0 - 2.0, 2.0, kBudgetMs) : kBudgetMs;
+  composer_->work(budgetMs, changed_);
+  const Steady::time_point tTrace = Steady::now();
+  // Animated screens (attract mode, the countdown, the capture) are presented on a fixed 30 Hz
+  // grid: timing each frame from the last present would add the loop's wake-up delay to every
+  // period (28 to 29 fps). In attract mode nobody waits for a stroke: what was traced between two
+  // ticks waits for the next one, so every frame on the grid carries the pieces' progress.
+  const bool due = animated && clock_() >= nextAnimation_;
+  const bool paced = m == KioskMode::Attract;
+  if ((paced ? due : !changed_.empty() || due) || input || firstPresent_ || overlayChanged_) {
     overlayChanged_ = false;
     present(clock_(), changed_, modelChanged && !changed_.empty());
+    changed_.clear();
   }
   if (m == KioskMode::Staff) updateStaffView(now);
   if (sessions_->pendingCount() && now - lastRetry_ > 30.0) {
@@ -451,6 +461,10 @@ bool KioskApp::step() {
   // its time went: on a slow board that is the first thing to look at.
   const auto secs = [](Steady::time_point a, Steady::time_point b) { return std::chrono::duration<double>(b - a).count(); };
   const Steady::time_point tEnd = Steady::now();
+  StepTimes& st = stepTimes_[static_cast<size_t>(m)];
+  ++st.steps;
+  st.input += secs(tStart, tInput), st.model += secs(tInput, tModel), st.tracing += secs(tModel, tTrace);
+  st.presenting += secs(tTrace, tEnd);
   if (secs(tStart, tEnd) >= 1.0 && log_ && secs(lastSlowLog_, tEnd) >= 10.0) {
     lastSlowLog_ = tEnd;
     char buf[200];
@@ -531,6 +545,15 @@ std::string KioskApp::statsReport() const {
     std::snprintf(buf, sizeof buf, "stats: %s: %zu frames in %.1f s = %.1f fps\n", kioskModeName(m), f.frames(), f.seconds(),
                   f.meanFps());
     out += buf;
+    if (const StepTimes& st = stepTimes_[static_cast<size_t>(m)]; st.steps > 0) {
+      const double k = 1000.0 / static_cast<double>(st.steps);
+      std::snprintf(buf, sizeof buf,
+                    "stats: %s: %zu turns of the loop, each %.2f ms on average: input %.2f, model %.2f, tracing %.2f, "
+                    "presenting %.2f\n",
+                    kioskModeName(m), st.steps, (st.input + st.model + st.tracing + st.presenting) * k, st.input * k, st.model * k,
+                    st.tracing * k, st.presenting * k);
+      out += buf;
+    }
   }
   if (latency_.count()) {
     std::snprintf(buf, sizeof buf,

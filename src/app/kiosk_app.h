@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <array>
 #include <deque>
 #include <filesystem>
 #include <functional>
@@ -213,7 +214,14 @@ class KioskApp {
 
   bool quit_ = false;
   bool benchShown_ = false;  // the composer shows the bench (else the attract piece)
-  double started_ = 0, lastStep_ = 0, lastPresent_ = -1, lastRetry_ = 0, sessionStarted_ = 0;
+  double started_ = 0, lastStep_ = 0, lastRetry_ = 0, sessionStarted_ = 0;
+  double nextAnimation_ = 0;  // when an animated screen is presented next (a 30 Hz grid)
+  // Where the loop's time goes, per mode (--stats): seconds summed over the turns.
+  struct StepTimes {
+    size_t steps = 0;
+    double input = 0, model = 0, tracing = 0, presenting = 0;
+  };
+  std::array<StepTimes, 4> stepTimes_{};  // by KioskMode
   std::uint64_t lastCommitted_ = 0;
   size_t presents_ = 0;
   bool firstPresent_ = true;

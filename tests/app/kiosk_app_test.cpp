@@ -417,6 +417,28 @@ TEST(KioskApp, AttractModeGoesOnWhereItWasAfterAStall) {
   EXPECT_EQ(jumps, 0u);
 }
 
+// Attract mode is presented on a 30 Hz grid: whatever the loop's pace (here a turn every 7 ms, a
+// pace that timing each frame from the last present would turn into 28 ms periods... or 35),
+// 30 frames a second, each carrying what was traced since the last.
+TEST(KioskApp, AttractModeIsPresentedThirtyTimesASecond) {
+  const fs::path dir = test::scratchDir("kiosk-app-grid");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  KioskApp app(testConfig(dir), tinyPieces(), display, {}, [&] { return t; });
+  app.step();
+  ASSERT_EQ(app.mode(), KioskMode::Attract);
+  for (double pace : {0.005, 0.007, 0.012}) {  // 4 s each
+    const size_t before = app.presents();
+    const double start = t;
+    while (t < start + 4.0 - 1e-9) {
+      t += pace;
+      app.step();
+    }
+    // 120 ticks in 4 s; a turn lands on a tick at most one pace late, never skipping one.
+    EXPECT_NEAR(static_cast<double>(app.presents() - before), 120.0, 1.0) << "a turn every " << pace * 1000 << " ms";
+  }
+}
+
 TEST(AttractPlayer, PlaysPiecesOperationByOperationThenTurnsAndLoops) {
   auto pieces = tinyPieces();
   pieces.push_back(pieces[0]);
