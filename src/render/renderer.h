@@ -159,6 +159,10 @@ class Renderer {
   Box3 bounds_{};                   // exact tracer: the model's bounds
   std::vector<std::uint32_t> all_;  // 0..active-1, for the naive mode
   std::vector<std::uint8_t> backdrop_;  // the camera's backdrop, 3 bytes a pixel (it never changes)
+  // The backdrop of the size before (a preview's, or the frame's while a preview is traced): going
+  // back and forth between two sizes computes neither again.
+  std::vector<std::uint8_t> spareBackdrop_;
+  int backdropW_ = 0, backdropH_ = 0, spareW_ = 0, spareH_ = 0;
 
   // The field tracer's state.
   HeightField field_;

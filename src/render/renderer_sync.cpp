@@ -294,8 +294,14 @@ void Renderer::setCamera(const Camera& camera) {
   const bool sameSize = camera_ && camera_->width() == camera.width() && camera_->height() == camera.height();
   camera_ = camera;
   if (sameSize && !backdrop_.empty()) return;
-  // The backdrop depends on the pixel and the picture's size alone: computed once per camera.
+  // The backdrop depends on the pixel and the picture's size alone: computed once per size, the
+  // last two sizes kept.
   const int w = camera.width(), h = camera.height();
+  backdrop_.swap(spareBackdrop_);
+  std::swap(backdropW_, spareW_);
+  std::swap(backdropH_, spareH_);
+  if (backdropW_ == w && backdropH_ == h && !backdrop_.empty()) return;
+  backdropW_ = w, backdropH_ = h;
   backdrop_.assign(static_cast<size_t>(w) * h * 3, 0);
   pool_.parallelFor2D(Rect{0, 0, w, h}, 64, [&](const Rect& t) {
     for (int y = t.y; y < t.y + t.h; ++y)
