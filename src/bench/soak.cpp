@@ -72,26 +72,21 @@ std::uintmax_t bytesOf(const fs::path& dir, bool journal) {
   return n;
 }
 
-struct WindowStats {
-  size_t count = 0;
-  double median = 0, lowest = 0, highest = 0;  // KiB
-};
-WindowStats windowStats(std::vector<long> v) {
-  WindowStats w;
-  w.count = v.size();
-  if (v.empty()) return w;
-  std::sort(v.begin(), v.end());
-  const size_t m = v.size() / 2;
-  w.median = v.size() % 2 ? double(v[m]) : 0.5 * (double(v[m - 1]) + double(v[m]));
-  w.lowest = double(v.front());
-  w.highest = double(v.back());
-  return w;
-}
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
   const size_t m = v.size() / 2;
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+struct WindowStats {
+  size_t count = 0;
+  double median = 0, lowest = 0, highest = 0;  // KiB
+};
+WindowStats windowStats(const std::vector<double>& v) {
+  if (v.empty()) return {};
+  const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  return {v.size(), median(v), *lo, *hi};
 }
 
 class Soak {
@@ -145,11 +140,11 @@ class Soak {
     // against that of the last window. A leak lifts every reading, so the median; a transient (a
     // large piece being shown, the allocator keeping a few pages) moves a few readings, not it.
     const auto window = [&](bool first) {
-      std::vector<long> v;
+      std::vector<double> v;
       const size_t from = rss.empty() ? 0 : first ? rss.front().first : (strokes_ > every ? strokes_ - every : 0);
       const size_t to = rss.empty() ? 0 : first ? rss.front().first + every : strokes_;
       for (const auto& [n, kib] : rss)
-        if (n >= from && n <= to) v.push_back(kib);
+        if (n >= from && n <= to) v.push_back(static_cast<double>(kib));
       return v;
     };
     const WindowStats firstW = windowStats(window(true)), lastW = windowStats(window(false));

@@ -16,11 +16,16 @@ void OpGrid::build(const Model& model) {
   y0_ = b.y0 - 8 * cell_;
   nx_ = static_cast<int>(std::ceil(sx / cell_)) + 16;
   ny_ = static_cast<int>(std::ceil(sy / cell_)) + 16;
-  // A new vector of empty lists: assigning empty lists over the old ones would keep their storage.
-  std::vector<std::vector<std::uint32_t>>(static_cast<size_t>(nx_) * ny_).swap(cells_);
+  newCells(static_cast<size_t>(nx_) * ny_);
   ids_.clear();
   supports_.clear();
   workpiece_ = model.workpiecePtr();
+}
+
+void OpGrid::newCells(size_t n) {
+  // A new vector of empty lists, so that what the old lists held goes back to the allocator:
+  // assigning empty lists over them would keep their storage.
+  std::vector<std::vector<std::uint32_t>>(n).swap(cells_);
 }
 
 bool OpGrid::cellRange(const Box2& b, int& cx0, int& cy0, int& cx1, int& cy1) const {
@@ -66,9 +71,8 @@ size_t OpGrid::sync(const Model& model) {
   size_t k = 0;
   while (k < ids_.size() && k < ids.size() && ids_[k] == ids[k]) ++k;
   if (k == 0 && !ids_.empty()) {
-    // Nothing is kept (a new sheet, a new visitor, the next attract piece): new empty lists at once,
-    // so that what the last piece's lists held goes back to the allocator, not kept per cell.
-    std::vector<std::vector<std::uint32_t>>(cells_.size()).swap(cells_);
+    // Nothing is kept (a new sheet, a new visitor, the next attract piece): new empty lists at once.
+    newCells(cells_.size());
   } else {
     for (size_t i = ids_.size(); i-- > k;) remove(static_cast<std::uint32_t>(i), supports_[i]);
   }

@@ -38,6 +38,7 @@ class OpGrid {
 
  private:
   void build(const Model& model);
+  void newCells(size_t n);
   void insert(std::uint32_t index, const Box2& support);
   void remove(std::uint32_t index, const Box2& support);
   bool cellRange(const Box2& b, int& cx0, int& cy0, int& cx1, int& cy1) const;

@@ -12,6 +12,20 @@
 namespace emboss {
 namespace {
 
+// Runs the soak with what it prints (the table and the verdict) into `text`.
+SoakResult runSoakInto(const SoakOptions& o, std::string& text) {
+  std::FILE* out = std::tmpfile();
+  if (!out) {
+    ADD_FAILURE() << "no temporary file";
+    return {};
+  }
+  const SoakResult r = runSoak(o, out);
+  std::rewind(out);
+  for (int c; (c = std::fgetc(out)) != EOF;) text += char(c);
+  std::fclose(out);
+  return r;
+}
+
 TEST(KioskSoakSlow, AShortRunKeepsItsDescriptorsAndBringsEveryRestoreBack) {
   SoakOptions o;
   o.strokes = 400;
@@ -19,13 +33,8 @@ TEST(KioskSoakSlow, AShortRunKeepsItsDescriptorsAndBringsEveryRestoreBack) {
   o.attractEvery = 2;
   o.attractSeconds = 1;
   o.dir = test::scratchDir("soak");
-  std::FILE* out = std::tmpfile();
-  ASSERT_NE(out, nullptr);
-  const SoakResult r = runSoak(o, out);
-  std::rewind(out);
   std::string text;
-  for (int c; (c = std::fgetc(out)) != EOF;) text += char(c);
-  std::fclose(out);
+  const SoakResult r = runSoakInto(o, text);
   EXPECT_EQ(r.fdGrowth, 0) << text;
   EXPECT_NE(text.find("| 400 |"), std::string::npos) << text;  // the last row
   EXPECT_NE(text.find("restores: 1, each with every stroke back: PASS"), std::string::npos) << text;
@@ -35,7 +44,7 @@ TEST(KioskSoakSlow, AShortRunKeepsItsDescriptorsAndBringsEveryRestoreBack) {
 }
 
 // The verdict's rule catches a leak: 1 MiB held after every visitor (about ten visitors between the
-// first window and the last) fails it, while the descriptors and the restores still pass.
+// first window and the last) fails it, while the descriptors still pass.
 TEST(KioskSoakSlow, TheVerdictCatchesALeak) {
   SoakOptions o;
   o.strokes = 2400;
@@ -45,13 +54,8 @@ TEST(KioskSoakSlow, TheVerdictCatchesALeak) {
   o.attractSeconds = 1;
   o.leakKibPerVisitor = 1024;
   o.dir = test::scratchDir("soak-leak");
-  std::FILE* out = std::tmpfile();
-  ASSERT_NE(out, nullptr);
-  const SoakResult r = runSoak(o, out);
-  std::rewind(out);
   std::string text;
-  for (int c; (c = std::fgetc(out)) != EOF;) text += char(c);
-  std::fclose(out);
+  const SoakResult r = runSoakInto(o, text);
   EXPECT_FALSE(r.pass) << text;
   EXPECT_GT(r.settledGrowthMb, 5.0) << text;
   EXPECT_EQ(r.fdGrowth, 0) << text;
