@@ -37,7 +37,7 @@ ShadingParams shadingFor(const Scene& scene, const Model& model) {
 
 }  // namespace
 
-int benchMain(const std::string& out, int threads, bool quick);
+int benchMain(const std::string& out, int threads, bool quick, const std::string& only);
 
 Commands::Commands(CLI::App& app) : app_(app) {
   evalCmd_ = app.add_subcommand("eval", "Print f (>= 0 inside) of a scene's model at points");
@@ -77,6 +77,7 @@ Commands::Commands(CLI::App& app) : app_(app) {
   benchCmd_->add_option("-o,--output", out_, "Also write the table (Markdown) to this file");
   benchCmd_->add_option("--threads", threads_, "Threads in the pool (0: one per core)")->check(CLI::Range(0, 256));
   benchCmd_->add_flag("--quick", quick_, "Small sizes, for a smoke test");
+  benchCmd_->add_option("--only", only_, "Measure only the pieces whose name holds this text (\"vm\", \"plate\"); the baseline always");
 }
 
 int Commands::run() {
@@ -266,6 +267,6 @@ int Commands::exportScene() {
   return 0;
 }
 
-int Commands::bench() { return benchMain(out_, threads_, quick_); }
+int Commands::bench() { return benchMain(out_, threads_, quick_, only_); }
 
 }  // namespace emboss::cli

@@ -49,6 +49,7 @@ class Commands {
   bool stats_ = false;
   bool incremental_ = false;
   bool quick_ = false;
+  std::string only_;
   std::function<std::unique_ptr<TextPainter>()> textFactory_;
 };
 

@@ -123,6 +123,22 @@ class VmProgram {
   Grad eval(Grad x, Grad y, Grad z, std::span<Grad> scratch) const;
   Interval eval(Interval x, Interval y, Interval z, std::span<Interval> scratch) const;
 
+  // The program specialised to a box (model units), as libfive, MPR and Fidget prune their
+  // tapes: every min and max that one operand decides over the whole box (by intervals, with a
+  // margin for their undirected rounding) is replaced by that operand, and what then no longer
+  // reaches the result is dropped. Inside the box it computes exactly what this program computes
+  // (the same operations on the same values); outside it, anything. *value, when given, gets the
+  // program's interval over the box.
+  VmProgram specialised(Interval x, Interval y, Interval z, Interval* value = nullptr) const;
+
+  // Lets go of the SSA graph (nodes()), which only specialised() and povFunction() read: a
+  // specialised tape kept for evaluation needs its instructions alone.
+  void dropNodes() { std::vector<Node>().swap(nodes_); }
+  // The bytes the program holds beyond its own object.
+  std::size_t memoryBytes() const {
+    return code_.capacity() * sizeof(Instr) + nodes_.capacity() * sizeof(Node) + sourceName_.capacity();
+  }
+
   // Whether the value depends on var-z (false: a 2D outline in x, y).
   bool usesZ() const { return usesZ_; }
   // Instructions in the compiled program (after dropping dead clauses and folding constants).
@@ -162,6 +178,8 @@ class VmProgram {
   T run(T x, T y, T z, T* slots) const;
   template <class T>
   T runWithThreadScratch(T x, T y, T z) const;
+  // code_, slotCount_ and resultSlot_ from nodes_.
+  void compileSlots();
 
   std::vector<Instr> code_;
   std::vector<Node> nodes_;  // reachable nodes, topological order; the last is the result
@@ -192,6 +210,11 @@ class VmWorkpiece : public Workpiece {
   double value(const P3<double>& p) const override;
   Grad value(const P3<Grad>& p) const override;
   Interval value(const P3<Interval>& p) const override;
+  // The same values computed with `tape`: this workpiece's program specialised to a box (model
+  // units) that holds p / scale (VmProgram::specialised), so fewer operations.
+  double value(const VmProgram& tape, const P3<double>& p) const;
+  Grad value(const VmProgram& tape, const P3<Grad>& p) const;
+  Interval value(const VmProgram& tape, const P3<Interval>& p) const;
   // Found at creation by vmModelBounds: outside it f < 0 (proven by intervals up to rounding, or
   // sampled where intervals are too loose).
   Box3 bounds() const override { return bounds_; }
@@ -206,7 +229,7 @@ class VmWorkpiece : public Workpiece {
  private:
   VmWorkpiece(VmProgram program, std::string file, double scale, double d);
   template <class T>
-  T valueT(const P3<T>& p) const;
+  T valueT(const VmProgram& program, const P3<T>& p) const;
 
   VmProgram program_;
   std::string file_;

@@ -2,14 +2,17 @@
 // the evaluator, the POV-Ray writer and the bound search (internal to src/frep).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 #include "frep/grad.h"
 #include "frep/interval.h"
@@ -324,6 +327,72 @@ inline double applyDouble(VmOp op, double a, double b) {
   }
   return kNaN;
 }
+
+// One node of a program's SSA graph for any scalar type, its operands' values in v (by node).
+template <class T>
+T applyNode(const VmProgram::Node& n, const T* v, T x, T y, T z) {
+  switch (n.op) {
+    case VmOp::kConst: return T(n.imm);
+    case VmOp::kVarX: return x;
+    case VmOp::kVarY: return y;
+    case VmOp::kVarZ: return z;
+    case VmOp::kNeg: return fix(opNeg(v[n.a]));
+    case VmOp::kAbs: return fix(opAbs(v[n.a]));
+    case VmOp::kRecip: return fix(opRecip(v[n.a]));
+    case VmOp::kSqrt: return fix(opSqrt(v[n.a]));
+    case VmOp::kSquare: return fix(opSquare(v[n.a]));
+    case VmOp::kFloor: return fix(opFloor(v[n.a]));
+    case VmOp::kCeil: return fix(opCeil(v[n.a]));
+    case VmOp::kRound: return fix(opRound(v[n.a]));
+    case VmOp::kSin: return fix(opSin(v[n.a]));
+    case VmOp::kCos: return fix(opCos(v[n.a]));
+    case VmOp::kTan: return fix(opTan(v[n.a]));
+    case VmOp::kAsin: return fix(opAsin(v[n.a]));
+    case VmOp::kAcos: return fix(opAcos(v[n.a]));
+    case VmOp::kAtan: return fix(opAtan(v[n.a]));
+    case VmOp::kExp: return fix(opExp(v[n.a]));
+    case VmOp::kLn: return fix(opLn(v[n.a]));
+    case VmOp::kNot: return fix(opNot(v[n.a]));
+    case VmOp::kAdd: return fix(opAdd(v[n.a], v[n.b]));
+    case VmOp::kSub: return fix(opSub(v[n.a], v[n.b]));
+    case VmOp::kMul: return fix(opMul(v[n.a], v[n.b]));
+    case VmOp::kDiv: return fix(opDiv(v[n.a], v[n.b]));
+    case VmOp::kMin: return fix(opMin(v[n.a], v[n.b]));
+    case VmOp::kMax: return fix(opMax(v[n.a], v[n.b]));
+    case VmOp::kAtan2: return fix(opAtan2(v[n.a], v[n.b]));
+    case VmOp::kPow: return fix(opPow(v[n.a], v[n.b]));
+    case VmOp::kMod: return fix(opMod(v[n.a], v[n.b]));
+    case VmOp::kCompare: return fix(opCompare(v[n.a], v[n.b]));
+    case VmOp::kAnd: return fix(opAnd(v[n.a], v[n.b]));
+    case VmOp::kOr: return fix(opOr(v[n.a], v[n.b]));
+  }
+  return T(0.0);
+}
+
+// ---- tape pruning (VmProgram::specialised, the bench's baseline)
+
+// Which operand decides a min or max over a box, from their intervals there: 1 a, 2 b, 0 either
+// may (or not a min or max). The intervals' rounding is not directed, so one operand must be
+// below the other by a margin; non-finite bounds decide nothing.
+inline std::uint8_t decidingOperand(VmOp op, const Interval& a, const Interval& b) {
+  if (op != VmOp::kMin && op != VmOp::kMax) return 0;
+  if (!std::isfinite(a.lo) || !std::isfinite(a.hi) || !std::isfinite(b.lo) || !std::isfinite(b.hi)) return 0;
+  const double m = 1e-9 * (1.0 + std::max(std::max(std::fabs(a.lo), std::fabs(a.hi)), std::max(std::fabs(b.lo), std::fabs(b.hi))));
+  const bool aBelow = a.hi + m < b.lo, bBelow = b.hi + m < a.lo;
+  if (op == VmOp::kMin) return aBelow ? 1 : bBelow ? 2 : 0;
+  return bBelow ? 1 : aBelow ? 2 : 0;
+}
+
+// Buffers pruneNodes reuses from call to call.
+struct PruneScratch {
+  std::vector<std::uint32_t> alias, remap;
+  std::vector<char> live;
+};
+
+// The tape t with every node whose choice (decidingOperand) is 1 or 2 replaced by that operand,
+// and what no longer reaches the last node dropped, into out (t's order kept).
+void pruneNodes(const std::vector<VmProgram::Node>& t, const std::vector<std::uint8_t>& choice, PruneScratch& s,
+                std::vector<VmProgram::Node>& out);
 
 // ---- text shared by the messages and writers
 

@@ -195,11 +195,18 @@ Result<VmProgram> VmProgram::parse(std::string_view text, std::string_view sourc
     }
   }
 
+  prog.compileSlots();
+  return prog;
+}
+
+void VmProgram::compileSlots() {
   // Slot allocation: a node's slot is freed after its last use and reused (LIFO, so recently
   // touched memory stays hot). An instruction reads its operands before writing its result, so
   // the result may take an operand's freed slot.
-  const std::vector<Node>& nodes = prog.nodes_;
+  const std::vector<Node>& nodes = nodes_;
+  code_.clear();
   const std::size_t m = nodes.size();
+  if (m == 0) return;
   std::vector<std::uint32_t> lastUse(m, 0);
   for (std::size_t i = 0; i < m; ++i) {
     const int arity = vmOpArity(nodes[i].op);
@@ -209,7 +216,7 @@ Result<VmProgram> VmProgram::parse(std::string_view text, std::string_view sourc
   std::vector<std::uint32_t> slot(m, 0);
   std::vector<std::uint32_t> freeSlots;
   std::uint32_t slots = 0;
-  prog.code_.reserve(m);
+  code_.reserve(m);
   for (std::size_t i = 0; i < m; ++i) {
     const Node& nd = nodes[i];
     const int arity = vmOpArity(nd.op);
@@ -227,11 +234,10 @@ Result<VmProgram> VmProgram::parse(std::string_view text, std::string_view sourc
     in.a = arity >= 1 ? slot[nd.a] : 0;
     in.b = arity >= 2 ? slot[nd.b] : 0;
     in.imm = nd.imm;
-    prog.code_.push_back(in);
+    code_.push_back(in);
   }
-  prog.slotCount_ = slots;
-  prog.resultSlot_ = slot[m - 1];
-  return prog;
+  slotCount_ = slots;
+  resultSlot_ = slot[m - 1];
 }
 
 Result<VmProgram> VmProgram::load(const std::filesystem::path& file) {

@@ -51,16 +51,19 @@ Result<std::shared_ptr<VmWorkpiece>> VmWorkpiece::create(VmProgram program, std:
 }
 
 template <class T>
-T VmWorkpiece::valueT(const P3<T>& p) const {
+T VmWorkpiece::valueT(const VmProgram& program, const P3<T>& p) const {
   const T s(invScale_);
-  const T m = -program_.eval(p.x * s, p.y * s, p.z * s) * T(scale_);
+  const T m = -program.eval(p.x * s, p.y * s, p.z * s) * T(scale_);
   if (program_.usesZ()) return m;
   return min(m, T(d_) - abs(p.z));
 }
 
-double VmWorkpiece::value(const P3<double>& p) const { return valueT(p); }
-Grad VmWorkpiece::value(const P3<Grad>& p) const { return valueT(p); }
-Interval VmWorkpiece::value(const P3<Interval>& p) const { return valueT(p); }
+double VmWorkpiece::value(const P3<double>& p) const { return valueT(program_, p); }
+Grad VmWorkpiece::value(const P3<Grad>& p) const { return valueT(program_, p); }
+Interval VmWorkpiece::value(const P3<Interval>& p) const { return valueT(program_, p); }
+double VmWorkpiece::value(const VmProgram& tape, const P3<double>& p) const { return valueT(tape, p); }
+Grad VmWorkpiece::value(const VmProgram& tape, const P3<Grad>& p) const { return valueT(tape, p); }
+Interval VmWorkpiece::value(const VmProgram& tape, const P3<Interval>& p) const { return valueT(tape, p); }
 
 nlohmann::json VmWorkpiece::toJson() const {
   return nlohmann::json{{"type", "vm"}, {"file", file_}, {"scale", scale_}, {"d", d_}};

@@ -10,6 +10,7 @@
 
 #include "frep/model.h"
 #include "frep/op_grid.h"
+#include "frep/vm_model.h"
 #include "render/camera.h"
 #include "render/height_field.h"
 #include "render/image.h"
@@ -42,6 +43,9 @@ struct RenderOptions {
   bool naive = false;  // no index and no field: every active operation at every point (for comparison)
   int tileSize = 32;
   bool exact = false;  // sheet model: trace the exact function through the index instead of the field
+  // Outline sheets: their program specialised per leaf of the column map (false: the whole
+  // program everywhere; the same picture, slower; for comparison).
+  bool specialisedOutline = true;
 };
 
 // Two tracers share one contract (docs/rendering.md): a pixel's colour depends on nothing but the
@@ -175,18 +179,33 @@ class Renderer {
   // Outline sheets, W = min(O(x, y), d - |z|), over blocks of 2 x 2 field cells: bounds of
   // min(O, d) per column. Where the slab d - |z'| <= lo, W is the slab bit for bit; where hi < 0,
   // W < 0 at every z.
+  // The outline O is evaluated with its program specialised to the leaf of 8 x 8 blocks a point
+  // or box lies in, or to the region of 4 x 4 leaves (VmProgram::specialised): the same values
+  // from a much shorter tape.
   struct ColumnMap {
+    static constexpr int kLeaf = 8;    // blocks a leaf is wide
+    static constexpr int kRegion = 4;  // leaves a region is wide
     double x0 = 0, y0 = 0, size = 1, inv = 1;
-    int nx = 0, ny = 0;
+    int nx = 0, ny = 0, leavesX = 0, leavesY = 0, regionsX = 0, regionsY = 0;
     std::vector<float> lo, hi;
     double halfThickness = 0;
+    const VmWorkpiece* vm = nullptr;
+    std::vector<VmProgram> leafTape, regionTape;
     struct Column {
       float lo, hi;
     };
     Column at(double x, double y) const;
     Column block(int i, int j) const;
+    // The program specialised to a box holding (x, y) / the xy box; the whole program beyond the map.
+    const VmProgram& tapeAt(double x, double y) const;
+    const VmProgram& tapeOver(const Box2& xy) const;
+    size_t memoryBytes() const;
   };
   void buildColumns();
+  // The workpiece at p (an outline sheet's: through the tapes; any other: as it is).
+  double workpieceValue(const P3<double>& p) const;
+  Grad workpieceValue(const P3<Grad>& p) const;
+  Interval workpieceValue(const P3<Interval>& p) const;
   ColumnMap columns_;
   std::vector<SetOp> setOps_;            // active set operations, ascending index
   Box3 fieldClip_{};                     // a box holding every surface of the field tracer's function

@@ -58,7 +58,7 @@ double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderSta
     else if (col.hi < 0.0f && !underSet)
       v = col.hi;
     else
-      v = model_->workpiece().value(P3<double>{p.x, p.y, p.z - d});
+      v = workpieceValue(P3<double>{p.x, p.y, p.z - d});
   } else {
     v = model_->workpiece().value(P3<double>{p.x, p.y, p.z - d});
     if (lipschitzValue) *lipschitzValue = v;
@@ -143,7 +143,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     } else {
       d = exactDisplacement(box, grid_.in(xy, scratch), st);
     }
-    v = model_->workpiece().value(P3<Interval>{box.x, box.y, box.z - d});
+    v = workpieceValue(P3<Interval>{box.x, box.y, box.z - d});
   }
   for (int k = 0; k < nSet; ++k) {
     const SetOp& s = rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k];
@@ -174,7 +174,7 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
   if (workpieceKind_ == 4 && columns_.halfThickness - std::abs(p.z - d.v) <= columns_.at(p.x, p.y).lo)
     f = Grad(columns_.halfThickness) - abs(q.z - d);  // W there
   else
-    f = model_->workpiece().value(P3<Grad>{q.x, q.y, q.z - d});
+    f = workpieceValue(P3<Grad>{q.x, q.y, q.z - d});
   for (const SetOp& s : setOps_) {
     if (!s.support.contains(p.x, p.y)) continue;
     double sv, sx, sy;

@@ -37,6 +37,7 @@ void Renderer::sync(const Model& model) {
 
 size_t Renderer::memoryBytes() const {
   size_t n = field_.memoryBytes() + grid_.memoryBytes();
+  if (workpieceKind_ == 4) n += columns_.memoryBytes();
   for (const SetOp& s : setOps_)
     if (s.shift) n += s.shift->memoryBytes();
   return n;
@@ -69,75 +70,6 @@ void Renderer::rebuildField(const Model& model) {
   fieldIds_.assign(model.operationIds().begin(), model.operationIds().begin() + static_cast<std::ptrdiff_t>(active));
   fieldSupports_.clear();
   for (size_t i = 0; i < active; ++i) fieldSupports_.push_back(model.operations()[i].support());
-}
-
-Renderer::ColumnMap::Column Renderer::ColumnMap::block(int i, int j) const {
-  // Beyond the workpiece's bounds W < 0.
-  if (i < 0 || j < 0 || i >= nx || j >= ny) return {-std::numeric_limits<float>::infinity(), -1.0f};
-  const size_t k = static_cast<size_t>(j) * nx + i;
-  return {lo[k], hi[k]};
-}
-
-Renderer::ColumnMap::Column Renderer::ColumnMap::at(double x, double y) const {
-  return block(static_cast<int>(std::floor((x - x0) * inv)), static_cast<int>(std::floor((y - y0) * inv)));
-}
-
-// The documented form of a 2D vm workpiece is W = min(O(x, y), d - |z|), so W over a column box
-// at z = 0 bounds min(O, d): proven outside where its high end is negative, the slab where the
-// slab is below its low end.
-void Renderer::buildColumns() {
-  const Workpiece& w = *fieldWorkpiece_;
-  ColumnMap& c = columns_;
-  const Box2 dom = field_.domain();
-  c.size = 2.0 * field_.spacing();
-  c.inv = 1.0 / c.size;
-  c.x0 = dom.x0, c.y0 = dom.y0;
-  c.nx = static_cast<int>(std::ceil((dom.x1 - dom.x0) * c.inv));
-  c.ny = static_cast<int>(std::ceil((dom.y1 - dom.y0) * c.inv));
-  c.halfThickness = w.halfThickness();
-  c.lo.assign(static_cast<size_t>(c.nx) * c.ny, 0.0f);
-  c.hi.assign(c.lo.size(), 0.0f);
-  const double d = c.halfThickness;
-  constexpr float inf = std::numeric_limits<float>::infinity();
-  auto bounds = [&](int i0, int j0, int i1, int j1) {
-    const Interval v = w.value(P3<Interval>{Interval(c.x0 + i0 * c.size, c.x0 + i1 * c.size),
-                                            Interval(c.y0 + j0 * c.size, c.y0 + j1 * c.size), Interval(0.0)});
-    const double m = 1e-9 * (1.0 + std::abs(v.lo) + std::abs(v.hi));
-    float lo = std::nextafter(static_cast<float>(v.lo - m), -inf);
-    float hi = std::nextafter(static_cast<float>(v.hi + m), inf);
-    if (hi < 0.0f) lo = -inf;                          // outside: the slab never applies
-    if (v.lo >= d + m) lo = static_cast<float>(2 * d);  // inside: the slab always applies
-    return ColumnMap::Column{lo, hi};
-  };
-  // 2 mm leaves, then the undecided ones block by block (finer blocks cost more at load than
-  // they save in frames: measured in docs/performance.md).
-  auto decided = [&](const ColumnMap::Column& b) { return b.hi < 0.0f || b.lo >= static_cast<float>(d); };
-  auto fill = [&](int i0, int j0, int i1, int j1, const ColumnMap::Column& b) {
-    for (int j = j0; j < j1; ++j)
-      for (int i = i0; i < i1; ++i) {
-        const size_t k = static_cast<size_t>(j) * c.nx + i;
-        c.lo[k] = b.lo, c.hi[k] = b.hi;
-      }
-  };
-  auto refine = [&](auto& self, int i0, int j0, int i1, int j1, int size) -> void {
-    const ColumnMap::Column b = bounds(i0, j0, i1, j1);
-    if (size == 1 || decided(b)) {
-      fill(i0, j0, i1, j1, b);
-      return;
-    }
-    const int sub = 1;
-    for (int j = j0; j < j1; j += sub)
-      for (int i = i0; i < i1; i += sub) self(self, i, j, std::min(i + sub, i1), std::min(j + sub, j1), sub);
-  };
-  constexpr int kLeaf = 8;
-  const Rect leaves{0, 0, (c.nx + kLeaf - 1) / kLeaf, (c.ny + kLeaf - 1) / kLeaf};
-  pool_.parallelFor2D(leaves, 4, [&](const Rect& t) {
-    for (int lb = t.y; lb < t.y + t.h; ++lb)
-      for (int la = t.x; la < t.x + t.w; ++la) {
-        const int i0 = la * kLeaf, j0 = lb * kLeaf;
-        refine(refine, i0, j0, std::min(i0 + kLeaf, c.nx), std::min(j0 + kLeaf, c.ny), kLeaf);
-      }
-  });
 }
 
 void Renderer::recomputeField(const Model& model, const HeightField::SampleRect& rIn) {

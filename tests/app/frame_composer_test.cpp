@@ -59,7 +59,9 @@ TEST(FrameComposer, ReleaseGivesBackWhatAClearedModelHeld) {
   const size_t blank = fc.memoryBytes();
   for (int i = 0; i < 40; ++i) {
     ASSERT_TRUE(bench.add(punch(-25 + 1.2 * i, -10 + 0.5 * i)));
-    if (i % 8 == 0) ASSERT_TRUE(bench.add(sphereOn(-20 + i, 5)));
+    if (i % 8 == 0) {
+      ASSERT_TRUE(bench.add(sphereOn(-20 + i, 5)));
+    }
   }
   fc.show(bench, home, sh, {true, false, {}}, false);
   fc.flush(changed);

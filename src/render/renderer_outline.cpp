@@ -1,0 +1,137 @@
+// Outline sheets (2D vm workpieces): the column map and the outline's program specialised per
+// column block (renderer.h, docs/rendering.md "Outline sheets").
+#include "render/renderer_internal.h"
+
+
+namespace emboss {
+
+using namespace render_internal;
+
+Renderer::ColumnMap::Column Renderer::ColumnMap::block(int i, int j) const {
+  // Beyond the workpiece's bounds W < 0.
+  if (i < 0 || j < 0 || i >= nx || j >= ny) return {-std::numeric_limits<float>::infinity(), -1.0f};
+  const size_t k = static_cast<size_t>(j) * nx + i;
+  return {lo[k], hi[k]};
+}
+
+Renderer::ColumnMap::Column Renderer::ColumnMap::at(double x, double y) const {
+  return block(static_cast<int>(std::floor((x - x0) * inv)), static_cast<int>(std::floor((y - y0) * inv)));
+}
+
+const VmProgram& Renderer::ColumnMap::tapeAt(double x, double y) const {
+  const int i = static_cast<int>(std::floor((x - x0) * inv)), j = static_cast<int>(std::floor((y - y0) * inv));
+  if (i < 0 || j < 0 || i >= nx || j >= ny) return vm->program();
+  return leafTape[static_cast<size_t>(j / kLeaf) * leavesX + i / kLeaf];
+}
+
+const VmProgram& Renderer::ColumnMap::tapeOver(const Box2& xy) const {
+  const int i0 = static_cast<int>(std::floor((xy.x0 - x0) * inv)), i1 = static_cast<int>(std::floor((xy.x1 - x0) * inv));
+  const int j0 = static_cast<int>(std::floor((xy.y0 - y0) * inv)), j1 = static_cast<int>(std::floor((xy.y1 - y0) * inv));
+  if (i0 < 0 || j0 < 0 || i1 >= nx || j1 >= ny) return vm->program();
+  if (i0 / kLeaf == i1 / kLeaf && j0 / kLeaf == j1 / kLeaf)
+    return leafTape[static_cast<size_t>(j0 / kLeaf) * leavesX + i0 / kLeaf];
+  constexpr int r = kLeaf * kRegion;
+  if (i0 / r == i1 / r && j0 / r == j1 / r) return regionTape[static_cast<size_t>(j0 / r) * regionsX + i0 / r];
+  return vm->program();
+}
+
+size_t Renderer::ColumnMap::memoryBytes() const {
+  size_t n = (lo.size() + hi.size()) * sizeof(float);
+  for (const auto* tapes : {&leafTape, &regionTape})
+    for (const VmProgram& t : *tapes) n += sizeof t + t.memoryBytes();
+  return n;
+}
+
+double Renderer::workpieceValue(const P3<double>& p) const {
+  if (workpieceKind_ == 4 && options_.specialisedOutline) return columns_.vm->value(columns_.tapeAt(p.x, p.y), p);
+  return model_->workpiece().value(p);
+}
+
+Grad Renderer::workpieceValue(const P3<Grad>& p) const {
+  if (workpieceKind_ == 4 && options_.specialisedOutline) return columns_.vm->value(columns_.tapeAt(p.x.v, p.y.v), p);
+  return model_->workpiece().value(p);
+}
+
+Interval Renderer::workpieceValue(const P3<Interval>& p) const {
+  if (workpieceKind_ == 4 && options_.specialisedOutline) return columns_.vm->value(columns_.tapeOver(Box2{p.x.lo, p.y.lo, p.x.hi, p.y.hi}), p);
+  return model_->workpiece().value(p);
+}
+
+// The documented form of a 2D vm workpiece is W = min(O(x, y), d - |z|), so W over a column box
+// at z = 0 bounds min(O, d): proven outside where its high end is negative, the slab where the
+// slab is below its low end. Each region specialises the program to its box, each of its leaves
+// the region's tape to its own; the blocks' bounds are computed through their leaf's tape.
+void Renderer::buildColumns() {
+  ColumnMap& c = columns_;
+  c.vm = dynamic_cast<const VmWorkpiece*>(fieldWorkpiece_.get());
+  const VmWorkpiece& w = *c.vm;
+  const Box2 dom = field_.domain();
+  c.size = 2.0 * field_.spacing();
+  c.inv = 1.0 / c.size;
+  c.x0 = dom.x0, c.y0 = dom.y0;
+  c.nx = static_cast<int>(std::ceil((dom.x1 - dom.x0) * c.inv));
+  c.ny = static_cast<int>(std::ceil((dom.y1 - dom.y0) * c.inv));
+  constexpr int kLeaf = ColumnMap::kLeaf, kRegion = ColumnMap::kRegion;
+  c.leavesX = (c.nx + kLeaf - 1) / kLeaf;
+  c.leavesY = (c.ny + kLeaf - 1) / kLeaf;
+  c.regionsX = (c.leavesX + kRegion - 1) / kRegion;
+  c.regionsY = (c.leavesY + kRegion - 1) / kRegion;
+  c.halfThickness = w.halfThickness();
+  c.lo.assign(static_cast<size_t>(c.nx) * c.ny, 0.0f);
+  c.hi.assign(c.lo.size(), 0.0f);
+  c.leafTape.assign(static_cast<size_t>(c.leavesX) * c.leavesY, VmProgram());
+  c.regionTape.assign(static_cast<size_t>(c.regionsX) * c.regionsY, VmProgram());
+  const double d = c.halfThickness;
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  // A tape serves every point whose block a lookup finds; a point on a block's edge may round
+  // into the next block, so each is specialised over its box grown by a hair.
+  const double hair = 1e-6 * c.size, toModel = 1.0 / w.scale();
+  auto specialise = [&](const VmProgram& from, int i0, int j0, int i1, int j1) {
+    VmProgram t =
+        from.specialised(Interval((c.x0 + i0 * c.size - hair) * toModel, (c.x0 + i1 * c.size + hair) * toModel),
+                         Interval((c.y0 + j0 * c.size - hair) * toModel, (c.y0 + j1 * c.size + hair) * toModel),
+                         Interval(0.0));
+    t.dropNodes();
+    return t;
+  };
+  auto bounds = [&](const VmProgram& tape, int i0, int j0, int i1, int j1) {
+    const Interval v = w.value(tape, P3<Interval>{Interval(c.x0 + i0 * c.size, c.x0 + i1 * c.size),
+                                                  Interval(c.y0 + j0 * c.size, c.y0 + j1 * c.size), Interval(0.0)});
+    const double m = 1e-9 * (1.0 + std::abs(v.lo) + std::abs(v.hi));
+    float lo = std::nextafter(static_cast<float>(v.lo - m), -inf);
+    float hi = std::nextafter(static_cast<float>(v.hi + m), inf);
+    if (hi < 0.0f) lo = -inf;                          // outside: the slab never applies
+    if (v.lo >= d + m) lo = static_cast<float>(2 * d);  // inside: the slab always applies
+    return ColumnMap::Column{lo, hi};
+  };
+  auto decided = [&](const ColumnMap::Column& b) { return b.hi < 0.0f || b.lo >= static_cast<float>(d); };
+  const Rect regions{0, 0, c.regionsX, c.regionsY};
+  pool_.parallelFor2D(regions, 1, [&](const Rect& t) {
+    const int ra = t.x, rb = t.y;
+    const int li0 = ra * kRegion, lj0 = rb * kRegion;
+    const int li1 = std::min(li0 + kRegion, c.leavesX), lj1 = std::min(lj0 + kRegion, c.leavesY);
+    // The region's tape is specialised from the whole program (nodes kept until its leaves are done).
+    VmProgram region = w.program().specialised(
+        Interval((c.x0 + li0 * kLeaf * c.size - hair) * toModel, (c.x0 + std::min(li1 * kLeaf, c.nx) * c.size + hair) * toModel),
+        Interval((c.y0 + lj0 * kLeaf * c.size - hair) * toModel, (c.y0 + std::min(lj1 * kLeaf, c.ny) * c.size + hair) * toModel),
+        Interval(0.0));
+    for (int lb = lj0; lb < lj1; ++lb)
+      for (int la = li0; la < li1; ++la) {
+        const int i0 = la * kLeaf, j0 = lb * kLeaf;
+        const int i1 = std::min(i0 + kLeaf, c.nx), j1 = std::min(j0 + kLeaf, c.ny);
+        VmProgram& leaf = c.leafTape[static_cast<size_t>(lb) * c.leavesX + la];
+        leaf = specialise(region, i0, j0, i1, j1);
+        const ColumnMap::Column b = bounds(leaf, i0, j0, i1, j1);
+        for (int j = j0; j < j1; ++j)
+          for (int i = i0; i < i1; ++i) {
+            const ColumnMap::Column col = decided(b) ? b : bounds(leaf, i, j, i + 1, j + 1);
+            const size_t k = static_cast<size_t>(j) * c.nx + i;
+            c.lo[k] = col.lo, c.hi[k] = col.hi;
+          }
+      }
+    region.dropNodes();
+    c.regionTape[static_cast<size_t>(rb) * c.regionsX + ra] = std::move(region);
+  });
+}
+
+}  // namespace emboss

@@ -1,0 +1,76 @@
+// Outline sheets evaluate their program through tapes specialised per leaf of the column map:
+// the picture is exactly the one the whole program gives.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+#include "bench/piece_generator.h"
+#include "frep/vm_generate.h"
+#include "frep/vm_model.h"
+#include "render/renderer.h"
+#include "tools/metal.h"
+
+namespace emboss {
+namespace {
+
+Image renderWith(const GeneratedPiece& piece, const Model& model, bool specialised, size_t* memory) {
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.setCamera(Camera(piece.camera, 160, 120));
+  ShadingParams s;
+  s.metal = *metalByName("copper");
+  s.frontZ = model.workpiece().bounds().z1;
+  r.setShading(s);
+  RenderOptions o;
+  o.specialisedOutline = specialised;
+  r.setOptions(o);
+  r.sync(model);
+  if (memory) *memory = r.memoryBytes();
+  Image image;
+  r.renderFull(image);
+  return image;
+}
+
+TEST(OutlineTapes, ThePictureIsTheWholeProgramsByteForByte) {
+  for (unsigned seed : {4u, 9u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    auto program = VmProgram::parse(generateVmRelief(900, seed), "test");
+    ASSERT_TRUE(program.ok()) << program.error();
+    auto wp = VmWorkpiece::create(std::move(*program), "test.vm", 30.0, 0.5);
+    ASSERT_TRUE(wp.ok()) << wp.error();
+    const Box3 b = (*wp)->bounds();
+    PieceOptions opt;
+    opt.width = b.x1 - b.x0, opt.height = b.y1 - b.y0, opt.halfThickness = 0.5;
+    GeneratedPiece piece = generatePiece(40, seed, opt);
+    const double cx = 0.5 * (b.x0 + b.x1), cy = 0.5 * (b.y0 + b.y1);
+    for (Operation& o : piece.operations) {
+      for (Vec2& p : o.points) p.x += cx, p.y += cy;
+      o.at.x += cx, o.at.y += cy;
+      o.tool.center.x += cx, o.tool.center.y += cy;
+      o.tool.end.x += cx, o.tool.end.y += cy;
+    }
+    piece.workpiece = *wp;
+    piece.camera = defaultCamera(b);
+    Model model(piece.workpiece, piece.deformation);
+    for (const Operation& o : piece.operations) ASSERT_TRUE(model.add(o).ok());
+    size_t withTapes = 0, without = 0;
+    const Image a = renderWith(piece, model, true, &withTapes);
+    const Image c = renderWith(piece, model, false, &without);
+    ASSERT_EQ(a.width, c.width);
+    ASSERT_EQ(a.height, c.height);
+    long differing = 0, hits = 0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        differing += std::memcmp(a.pixel(x, y), c.pixel(x, y), 4) != 0;
+        hits += a.pixel(x, y)[0] != c.pixel(0, 0)[0];  // not the corner's backdrop: the piece shows
+      }
+    EXPECT_EQ(differing, 0);
+    EXPECT_GT(hits, a.width * a.height / 10) << "the medallion should fill much of the picture";
+    // The tapes are counted in what the renderer holds.
+    EXPECT_GT(withTapes, 0u);
+  }
+}
+
+}  // namespace
+}  // namespace emboss
