@@ -122,6 +122,7 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
   }
   if (full) {
     urgent_.clear();
+    coarse_.clear();
     const auto it = model.activeCount() == 0 ? blanks_.find(blankKey()) : blanks_.end();
     if (it != blanks_.end()) {
       frame_ = it->second;
@@ -159,34 +160,26 @@ void FrameComposer::renderRect(const Rect& r, std::vector<Rect>& changed) {
   changed.push_back(r);
 }
 
-void FrameComposer::preview(std::vector<Rect>& changed) {
-  needPreview_ = false;
-  const int pw = std::max(8, w_ / previewScale_), ph = std::max(8, h_ / previewScale_);
-  const auto t0 = std::chrono::steady_clock::now();
-  renderer_->setCamera(Camera(camera_, pw, ph));
-  RenderStats st;
-  renderer_->renderFull(low_, &st);
-  renderer_->setCamera(Camera(camera_, w_, h_));
-  counters_.render += st;
-  // Bilinear enlargement into the frame, in 8-bit fixed point (weights 0..256): the columns'
-  // sources and weights once, then a row at a time.
+// Bilinear enlargement into the frame, in 8-bit fixed point (weights 0..256): the columns'
+// sources and weights once, then a row at a time.
+void FrameComposer::enlarge(int lw, int lh, const Rect& r) {
   struct Tap {
     int x0, x1, t;
   };
   thread_local std::vector<Tap> taps;
-  taps.resize(static_cast<size_t>(w_));
+  taps.resize(static_cast<size_t>(r.w));
   const auto tap = [](int i, int n, int from) {
     const double f = std::clamp((i + 0.5) * from / n - 0.5, 0.0, from - 1.0);
     const int i0 = static_cast<int>(f);
     return Tap{i0, std::min(i0 + 1, from - 1), static_cast<int>(std::lround((f - i0) * 256.0))};
   };
-  for (int x = 0; x < w_; ++x) taps[static_cast<size_t>(x)] = tap(x, w_, pw);
-  for (int y = 0; y < h_; ++y) {
-    const Tap ty = tap(y, h_, ph);
+  for (int x = 0; x < r.w; ++x) taps[static_cast<size_t>(x)] = tap(r.x + x, w_, lw);
+  for (int y = r.y; y < r.y + r.h; ++y) {
+    const Tap ty = tap(y, h_, lh);
     const std::uint8_t* r0 = low_.pixel(0, ty.x0);
     const std::uint8_t* r1 = low_.pixel(0, ty.x1);
-    std::uint8_t* d = frame_.pixel(0, y);
-    for (int x = 0; x < w_; ++x, d += 4) {
+    std::uint8_t* d = frame_.pixel(r.x, y);
+    for (int x = 0; x < r.w; ++x, d += 4) {
       const Tap& tx = taps[static_cast<size_t>(x)];
       const std::uint8_t *a = r0 + 4 * tx.x0, *b = r0 + 4 * tx.x1, *c = r1 + 4 * tx.x0, *e = r1 + 4 * tx.x1;
       for (int k = 0; k < 3; ++k) {
@@ -196,6 +189,39 @@ void FrameComposer::preview(std::vector<Rect>& changed) {
       d[3] = 255;
     }
   }
+}
+
+void FrameComposer::traceCoarse(const Rect& r, std::vector<Rect>& changed) {
+  // The preview's scale, so the renderer's backdrop for that size is already there.
+  const int lw = std::max(8, w_ / previewScale_), lh = std::max(8, h_ / previewScale_);
+  // The low pixels the enlargement of r reads: its taps' span, one more each side.
+  const auto lowSpan = [](int a, int b, int n, int from) {
+    const int lo = static_cast<int>(std::floor((a + 0.5) * from / n - 0.5)) - 1;
+    const int hi = static_cast<int>(std::ceil((b - 0.5) * from / n - 0.5)) + 1;
+    return std::pair{std::clamp(lo, 0, from - 1), std::clamp(hi, 0, from - 1)};
+  };
+  const auto [x0, x1] = lowSpan(r.x, r.x + r.w, w_, lw);
+  const auto [y0, y1] = lowSpan(r.y, r.y + r.h, h_, lh);
+  renderer_->setCamera(Camera(camera_, lw, lh));
+  RenderStats st;
+  renderer_->render(low_, Rect{x0, y0, x1 - x0 + 1, y1 - y0 + 1}, &st);
+  renderer_->setCamera(Camera(camera_, w_, h_));
+  counters_.render += st;
+  enlarge(lw, lh, r);
+  ++counters_.coarseRects;
+  changed.push_back(r);
+}
+
+void FrameComposer::preview(std::vector<Rect>& changed) {
+  needPreview_ = false;
+  const int pw = std::max(8, w_ / previewScale_), ph = std::max(8, h_ / previewScale_);
+  const auto t0 = std::chrono::steady_clock::now();
+  renderer_->setCamera(Camera(camera_, pw, ph));
+  RenderStats st;
+  renderer_->renderFull(low_, &st);
+  renderer_->setCamera(Camera(camera_, w_, h_));
+  counters_.render += st;
+  enlarge(pw, ph, Rect{0, 0, w_, h_});
   const double ms = msSince(t0);
   counters_.lastPreviewMs = ms;
   ++counters_.previews;
@@ -206,7 +232,7 @@ void FrameComposer::preview(std::vector<Rect>& changed) {
   changed.push_back({0, 0, w_, h_});
 }
 
-void FrameComposer::work(double budgetMs, std::vector<Rect>& changed) {
+void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone) {
   if (!model_ || !cameraSet_) return;
   const auto t0 = std::chrono::steady_clock::now();
   if (blankCopied_) {
@@ -214,12 +240,38 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed) {
     changed.push_back({0, 0, w_, h_});
   }
   if (needPreview_) preview(changed);
-  for (const Rect& r : mergeRects(std::move(urgent_))) {
-    renderRect(r, changed);
+  const std::vector<Rect> dirty = mergeRects(std::move(urgent_));
+  urgent_.clear();
+  // What the visitor just did is on the screen within the frame: when tracing all of it would
+  // take longer than the dirty budget at the measured speed (until a trace has measured it, everything
+  // is traced exactly), the big rectangles are traced coarse now and exactly after the present.
+  long area = 0;
+  for (const Rect& r : dirty) area += r.area();
+  const bool tooSlow = pxPerMs_ > 0 && area > dirtyMs_ * pxPerMs_;
+  bool anyCoarse = false;
+  for (const Rect& r : dirty) {
     ++counters_.dirtyRects;
     counters_.dirtyPixels += r.area();
+    if (tooSlow && r.area() > 0.25 * dirtyMs_ * pxPerMs_) {
+      traceCoarse(r, changed);
+      coarse_.push_back(r);
+      anyCoarse = true;
+    } else {
+      renderRect(r, changed);
+    }
   }
-  urgent_.clear();
+  if (anyCoarse || (dirtyAlone && !dirty.empty())) return;
+  // The coarse rectangles' exact pixels, a band of rows at a time, oldest first.
+  while (!coarse_.empty()) {
+    const double left = budgetMs - msSince(t0);
+    if (left <= 0) break;
+    Rect& r = coarse_.front();
+    int rows = pxPerMs_ > 0 ? static_cast<int>(left * pxPerMs_ / std::max(1, r.w)) : 8;
+    rows = std::clamp(rows, 4, r.h);
+    renderRect(Rect{r.x, r.y, r.w, rows}, changed);
+    r.y += rows, r.h -= rows;
+    if (r.h <= 0) coarse_.erase(coarse_.begin());
+  }
   while (nextBand_ < h_) {
     const double left = budgetMs - msSince(t0);
     if (left <= 0) break;

@@ -42,12 +42,18 @@ class FrameComposer {
   size_t memoryBytes() const;
 
   // Traces dirty rectangles (always all of them: they are what the visitor just did), then
-  // refinement bands until about `budgetMs` have passed. Appends the rectangles of frame() that
-  // changed.
-  void work(double budgetMs, std::vector<Rect>& changed);
+  // refinement until about `budgetMs` have passed. Appends the rectangles of frame() that
+  // changed. Dirty rectangles that would take longer than the dirty budget (a raised region, a
+  // big punch close up) are traced coarse first, like a preview, and the call returns so that
+  // they are presented at once; their exact pixels come in the next calls, before the bands.
+  // `dirtyAlone`: a call that traced dirty rectangles returns after them (a visitor drawing:
+  // the stroke is presented before any refinement).
+  void work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone = false);
+  // The time dirty rectangles may take before the big ones are shown coarse first (6 ms).
+  void setDirtyBudget(double ms) { dirtyMs_ = ms; }
   // Traces everything pending (for snapshots, saving and exit).
   void flush(std::vector<Rect>& changed);
-  bool pending() const { return !urgent_.empty() || nextBand_ < h_ || needPreview_ || blankCopied_; }
+  bool pending() const { return !urgent_.empty() || !coarse_.empty() || nextBand_ < h_ || needPreview_ || blankCopied_; }
   bool refining() const { return nextBand_ < h_; }
 
   const Image& frame() const { return frame_; }
@@ -56,6 +62,7 @@ class FrameComposer {
   // Counters for the diagnostics screen.
   struct Counters {
     std::uint64_t dirtyRects = 0, dirtyPixels = 0, previews = 0, bands = 0, blankReuses = 0;
+    std::uint64_t coarseRects = 0;  // dirty rectangles shown coarse first
     std::uint64_t fieldRebuilds = 0;  // a model's height field built from scratch
     double lastPreviewMs = 0;
     RenderStats render;
@@ -65,6 +72,10 @@ class FrameComposer {
  private:
   using BlankKey = std::tuple<const void*, std::string, std::string>;
   void preview(std::vector<Rect>& changed);
+  // The frame's pixels in r from low_, a picture of the same view scaled to lw x lh (bilinear).
+  void enlarge(int lw, int lh, const Rect& r);
+  // r traced at the preview's scale and enlarged into the frame.
+  void traceCoarse(const Rect& r, std::vector<Rect>& changed);
   void renderRect(const Rect& r, std::vector<Rect>& changed);
   BlankKey blankKey() const;
 
@@ -92,6 +103,7 @@ class FrameComposer {
   std::string shadingKey_;
   ShadingParams shading_{};
   std::vector<Rect> urgent_;
+  std::vector<Rect> coarse_;  // dirty rectangles the frame shows coarse: traced exactly next
   bool needPreview_ = false;
   bool blankCopied_ = false;      // frame_ was just replaced by a remembered bare sheet
   bool refineAfterMove_ = false;  // the camera moved: refine once it stops
@@ -99,6 +111,7 @@ class FrameComposer {
   int bandRows_ = 16;
   int previewScale_ = 3;
   double pxPerMs_ = 0;    // measured tracing speed
+  double dirtyMs_ = 6.0;
   std::map<BlankKey, Image> blanks_;  // the bare sheet per workpiece, shading and camera
   Counters counters_;
 };

@@ -20,6 +20,9 @@ namespace {
 
 constexpr double kFrameSeconds = 1.0 / 60.0;  // one display frame: how much of a recording --fast feeds per step
 constexpr double kBudgetMs = 35.0;            // tracing per step beyond the dirty rectangles
+// The same with a visitor at the bench: a pen event that arrives meanwhile waits at most this
+// long before its own stroke is traced (stroke-to-screen latency).
+constexpr double kVisitorBudgetMs = 6.0;
 constexpr double kAnimationPeriod = 1.0 / 30.0;
 constexpr double kMaxAttractGap = 0.25;       // a longer step is a stall: attract mode does not catch up
 
@@ -438,8 +441,11 @@ bool KioskApp::step() {
   const bool animated = m != KioskMode::Visitor || capture_.phase == CapturePhase::Running;
   // Refinement bands fill the step's budget; on an animated screen they stop short of the next
   // tick of the grid below (the dirty rectangles are traced whatever the budget).
-  const double budgetMs = animated ? std::clamp((nextAnimation_ - clock_()) * 1000.0 - 2.0, 2.0, kBudgetMs) : kBudgetMs;
-  composer_->work(budgetMs, changed_);
+  const bool drawing = m == KioskMode::Visitor;
+  const double budgetMs = animated  ? std::clamp((nextAnimation_ - clock_()) * 1000.0 - 2.0, 2.0, kBudgetMs)
+                          : drawing ? kVisitorBudgetMs
+                                    : kBudgetMs;
+  composer_->work(budgetMs, changed_, drawing);
   const Steady::time_point tTrace = Steady::now();
   // Animated screens (attract mode, the countdown, the capture) are presented on a fixed 30 Hz
   // grid: timing each frame from the last present would add the loop's wake-up delay to every

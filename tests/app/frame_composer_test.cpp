@@ -2,6 +2,8 @@
 // refinement bands, the finished frame equals one full render.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "app/frame_composer.h"
 #include "app/view_orbit.h"
 #include "app/workbench.h"
@@ -12,10 +14,10 @@ namespace {
 
 constexpr int kW = 200, kH = 125;
 
-Image fullRender(ThreadPool& pool, const Model& m, const CameraSpec& c, const ShadingParams& s) {
+Image fullRender(ThreadPool& pool, const Model& m, const CameraSpec& c, const ShadingParams& s, int w = kW, int h = kH) {
   Renderer r(pool);
   r.sync(m);
-  r.setCamera(Camera(c, kW, kH));
+  r.setCamera(Camera(c, w, h));
   r.setShading(s);
   Image img;
   r.renderFull(img);
@@ -133,6 +135,68 @@ TEST(FrameComposer, FinishedFrameEqualsAFullRender) {
   fc.flush(all);
   EXPECT_EQ(reused, 1u);
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, bare2, home, sh).rgba);
+}
+
+// A dirty rectangle too big to trace within the frame (a raised region close up) is shown coarse
+// at once, the call returning so the kiosk presents it; its exact pixels follow in the next calls,
+// and the finished frame is a full render's, byte for byte.
+TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
+  constexpr int w = 480, h = 300;
+  ThreadPool pool(2);
+  FrameComposer fc(pool, w, h);
+  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  const CameraSpec home = benchCamera(m.workpiece().bounds(), w, h);
+  ShadingParams sh;
+  sh.metal = *metalByName("copper");
+  sh.tinge = tinges()[0];
+  sh.frontZ = 0.5;
+  std::vector<Rect> changed;
+  fc.show(m, home, sh, {true, false, {}}, false);
+  fc.flush(changed);  // the bands measure the tracing speed
+  // What may be traced at once: a twentieth of a millisecond, so that the region is too big on
+  // any machine.
+  fc.setDirtyBudget(0.05);
+  const Image before = fc.frame();
+  Operation region;
+  region.kind = OpKind::Region;
+  region.side = Side::Back;
+  region.points = {{-18, -12}, {18, -12}, {18, 12}, {-18, 12}};
+  region.height = 0.8;
+  region.falloff = 2.0;
+  ASSERT_TRUE(m.add(region));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  changed.clear();
+  fc.work(1000.0, changed, true);
+  EXPECT_EQ(fc.counters().coarseRects, 1u);
+  EXPECT_TRUE(fc.pending()) << "the exact pixels are still to come";
+  ASSERT_EQ(changed.size(), 1u);
+  const Rect r = changed[0];
+  EXPECT_GT(r.area(), w * h / 10);
+  // The coarse picture shows the region: it differs from the frame before in most of the
+  // rectangle, and from the exact one by little.
+  const Image coarse = fc.frame();
+  std::vector<Rect> rest;
+  fc.flush(rest);
+  EXPECT_FALSE(fc.pending());
+  const Image exact = fullRender(pool, m, home, sh, w, h);
+  EXPECT_EQ(fc.frame().rgba, exact.rgba);
+  long moved = 0, far = 0;
+  for (int y = r.y; y < r.y + r.h; ++y)
+    for (int x = r.x; x < r.x + r.w; ++x)
+      for (int k = 0; k < 3; ++k) {
+        moved += coarse.pixel(x, y)[k] != before.pixel(x, y)[k];
+        far += std::abs(coarse.pixel(x, y)[k] - exact.pixel(x, y)[k]) > 24;
+      }
+  EXPECT_GT(moved, r.area());          // over a third of the channels changed
+  EXPECT_LT(far, r.area() * 3 / 20);   // at most 5 % of them far from the exact picture
+  // Within the budget a stroke is traced exactly at once.
+  fc.setDirtyBudget(1e6);
+  ASSERT_TRUE(m.add(punch(0, 0)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  fc.work(1000.0, changed, true);
+  EXPECT_EQ(fc.counters().coarseRects, 1u);
+  EXPECT_FALSE(fc.pending());
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
 }
 
 TEST(FrameComposer, GoingBackAndForthBetweenTwoModelsRebuildsNoField) {
