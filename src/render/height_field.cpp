@@ -321,4 +321,24 @@ HeightField::Bound HeightField::rootBound() const {
   return {n.lo, n.hi, n.gxlo, n.gxhi, n.gylo, n.gyhi};
 }
 
+void HeightField::save(const SampleRect& rIn, Saved& out) const {
+  const SampleRect r = clamp(rIn);
+  out.r = r;
+  out.samples.clear();
+  if (r.empty()) return;
+  out.samples.reserve(static_cast<size_t>(r.count()));
+  for (int j = r.j0; j <= r.j1; ++j) {
+    const Sample* row = &samples_[static_cast<size_t>(j) * nx_];
+    out.samples.insert(out.samples.end(), row + r.i0, row + r.i1 + 1);
+  }
+}
+
+void HeightField::restore(const Saved& saved) {
+  const SampleRect& r = saved.r;
+  if (r.empty() || saved.samples.size() != static_cast<size_t>(r.count())) return;
+  const int w = r.i1 - r.i0 + 1;
+  for (int j = r.j0; j <= r.j1; ++j)
+    std::copy_n(&saved.samples[static_cast<size_t>(j - r.j0) * w], w, &at(r.i0, j));
+}
+
 }  // namespace emboss

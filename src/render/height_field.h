@@ -78,6 +78,11 @@ class HeightField {
   void add(const PreparedOp& op, ThreadPool* pool = nullptr);
   // Sets the samples of `r` to the sum of `ops` (the offsets that may reach r, ascending index).
   void recompute(const SampleRect& r, std::span<const PreparedOp* const> ops);
+  // The samples of r as they are, and putting them back (then finish() over r): an append
+  // undone exactly.
+  struct Saved;
+  void save(const SampleRect& r, Saved& out) const;
+  void restore(const Saved& saved);
   // After add()/recompute() over r: refreshes the twists around r and the pyramid above it.
   void finish(const SampleRect& r, ThreadPool* pool = nullptr);
   // Right after configure() (every sample zero: no operation moves the sheet): the bounds that
@@ -100,6 +105,10 @@ class HeightField {
     float d = 0, dx = 0, dy = 0, dxy = 0;
   };
   const Sample& sample(int i, int j) const { return samples_[static_cast<size_t>(j) * nx_ + i]; }
+  struct Saved {
+    SampleRect r;
+    std::vector<Sample> samples;
+  };
 
  private:
   struct Node {

@@ -175,6 +175,14 @@ class Renderer {
   std::shared_ptr<const Workpiece> fieldWorkpiece_;  // held: its address is never another workpiece's
   std::vector<std::uint64_t> fieldIds_;  // ids of the operations summed into the field, by index
   std::vector<Box2> fieldSupports_;      // their supports
+  // The samples under the last offset appended, as they were before it (an undo or a replacement
+  // of it puts them back).
+  struct SavedSamples {
+    std::uint64_t id = 0;
+    bool valid = false;
+    HeightField::Saved samples;
+  };
+  SavedSamples saved_;
   int workpieceKind_ = 0;  // 1 plate, 2 disc, 3 bowl (known Lipschitz bounds), 4 outline sheet (2D vm), 0 other
   // Outline sheets, W = min(O(x, y), d - |z|), over blocks of 2 x 2 field cells: bounds of
   // min(O, d) per column. Where the slab d - |z'| <= lo, W is the slab bit for bit; where hi < 0,

@@ -38,12 +38,14 @@ void Renderer::sync(const Model& model) {
 size_t Renderer::memoryBytes() const {
   size_t n = field_.memoryBytes() + grid_.memoryBytes();
   if (workpieceKind_ == 4) n += columns_.memoryBytes();
+  n += saved_.samples.samples.capacity() * sizeof(HeightField::Sample);
   for (const SetOp& s : setOps_)
     if (s.shift) n += s.shift->memoryBytes();
   return n;
 }
 
 void Renderer::rebuildField(const Model& model) {
+  saved_ = {};  // (its memory too: a cleared bench holds nothing of the last visitor's)
   const Box3 wb = model.workpiece().bounds();
   const Box2 domain = wb.xy().grown(kFieldMargin);
   const double area = (domain.x1 - domain.x0) * (domain.y1 - domain.y0);
@@ -103,23 +105,48 @@ void Renderer::syncField(const Model& model) {
   const size_t active = model.activeCount();
   size_t p = 0;
   while (p < fieldIds_.size() && p < active && fieldIds_[p] == ids[p]) ++p;
-  if (p == fieldIds_.size()) {
-    // Appends only (a new stroke, a redo): each adds its kernel to the samples under its support,
-    // continuing every sample's sum in index order.
-    for (size_t i = p; i < active; ++i) {
+  // Appends each add their kernel to the samples under their support, continuing every sample's
+  // sum in index order. The samples under the last one are saved first (see below). `appended`:
+  // the set operations' shift fields add them too (else they sum the regions again).
+  auto append = [&](size_t from, bool appended) {
+    for (size_t i = from; i < active; ++i) {
       const PreparedOp& op = ops[i];
       if (op.op().isOffset()) {
         const HeightField::SampleRect r = field_.samplesIn(op.support());
+        if (i + 1 == active) {
+          field_.save(r, saved_.samples);
+          saved_.id = ids[i];
+          saved_.valid = true;
+        }
         field_.add(op, &pool_);
         field_.finish(r, &pool_);
         lastSync_.samplesUpdated += r.count();
-        fieldChanges_.push_back({true, static_cast<std::uint32_t>(i), op.support()});
+        fieldChanges_.push_back({appended, static_cast<std::uint32_t>(i), op.support()});
       }
       fieldIds_.push_back(ids[i]);
       fieldSupports_.push_back(op.support());
     }
+  };
+  if (p == fieldIds_.size()) {
+    append(p, true);  // a new stroke, a redo
     return;
   }
+  // The last offset undone or replaced (a stroke's live preview growing under the pen): its
+  // samples go back to what they were before it, and what follows is appended, the same sums in
+  // the same order as a full build, without summing the area again over every operation there.
+  if (p + 1 == fieldIds_.size() && saved_.valid && saved_.id == fieldIds_.back()) {
+    saved_.valid = false;
+    field_.restore(saved_.samples);
+    const HeightField::SampleRect old = saved_.samples.r;
+    fieldChanges_.push_back({false, 0, fieldSupports_.back()});
+    fieldIds_.pop_back();
+    fieldSupports_.pop_back();
+    append(p, false);
+    field_.finish(old, &pool_);
+    lastSync_.samplesUpdated += old.count();
+    return;
+  }
+  saved_.valid = false;
   // Operations removed (undo) or replaced: the samples under them are summed again from 0.0 over
   // the active offsets, in index order, as a full build does.
   std::vector<HeightField::SampleRect> regions;
