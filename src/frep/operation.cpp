@@ -265,6 +265,17 @@ std::string validate(const Operation& op) {
 }
 
 PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
+  if ((op_.kind == OpKind::Trace || op_.kind == OpKind::Region) && op_.points.size() >= 2) {
+    const auto& pts = op_.points;
+    const size_t n = pts.size();
+    const size_t count = op_.kind == OpKind::Region && n > 2 ? n : n - 1;
+    segments_.reserve(count);
+    for (size_t i = 0; i < count; ++i) {
+      const Vec2 &a = pts[i], &b = pts[i + 1 < n ? i + 1 : 0];
+      const double ex = b.x - a.x, ey = b.y - a.y, len2 = ex * ex + ey * ey;
+      segments_.push_back({a.x, a.y, ex, ey, len2 <= 0.0 ? 0.0 : 1.0 / len2});
+    }
+  }
   const double L = length_ = op_.characteristicLength();
   const double reach = kSupportSpan * L;
   switch (op_.kind) {
@@ -344,13 +355,45 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
   }
 }
 
+// The squared distance to the path (polylineDistance2's value). With gradients the nearest
+// segment is found in doubles from the segments' precomputed parts (the arithmetic of
+// kernels::segmentDistance2, so the same values, the first of equal ones kept as min keeps it),
+// and only its distance is taken with its gradient.
+template <class T>
+T PreparedOp::pathDistance2(const T& x, const T& y) const {
+  const bool closed = op_.kind == OpKind::Region;
+  if constexpr (std::is_same_v<T, Grad>) {
+    if (segments_.empty()) return polylineDistance2(x, y, op_.points, closed);
+    size_t best = 0;
+    double bestV = 0.0;
+    for (size_t i = 0; i < segments_.size(); ++i) {
+      const Segment& g = segments_[i];
+      const double px = x.v - g.ax, py = y.v - g.ay;
+      double v;
+      if (g.inv == 0.0) {
+        v = sqr(px) + sqr(py);
+      } else {
+        double t = (px * g.ex + py * g.ey) * g.inv;
+        t = std::min(std::max(t, 0.0), 1.0);
+        v = sqr(px - t * g.ex) + sqr(py - t * g.ey);
+      }
+      if (i == 0 || !(bestV <= v)) bestV = v, best = i;  // min(a, b) is b only where !(a.v <= b.v)
+    }
+    const auto& pts = op_.points;
+    const Vec2 &a = pts[best], &b = pts[best + 1 < pts.size() ? best + 1 : 0];
+    return kernels::segmentDistance2(x, y, a.x, a.y, b.x, b.y);
+  } else {
+    return polylineDistance2(x, y, op_.points, closed);
+  }
+}
+
 template <class T>
 T PreparedOp::offset(const P3<T>& p, Deformation model) const {
   const Operation& o = op_;
   const double L = length_;
   switch (o.kind) {
     case OpKind::Trace: {
-      T t2 = polylineDistance2(p.x, p.y, o.points, false);
+      T t2 = pathDistance2(p.x, p.y);
       if (!joints_[0].on && !joints_[1].on) return o.sign() * tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
       // Joints: the line continued through them, the hand-over weights (docs/kernels.md).
       for (const Joint& k : joints_)
@@ -384,7 +427,7 @@ T PreparedOp::offset(const P3<T>& p, Deformation model) const {
       return o.sign() * sum;
     }
     case OpKind::Region: {
-      const T t2 = polylineDistance2(p.x, p.y, o.points, true);
+      const T t2 = pathDistance2(p.x, p.y);
       auto descent = [&](const T& d2) { return o.height * kernels::agnesi(d2, o.falloff) * (1.0 / o.falloff); };
       if constexpr (std::is_same_v<T, Interval>) {
         const Interval outside = tapered(t2, L, descent);

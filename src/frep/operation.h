@@ -125,7 +125,17 @@ class PreparedOp {
   const Joint& joint(int end) const { return joints_[end]; }
 
  private:
+  // Trace and region: per segment of the path (closed for a region), what
+  // kernels::segmentDistance2 works out from its ends alone, so that the nearest segment is
+  // found without a division per segment.
+  struct Segment {
+    double ax, ay, ex, ey, inv;  // inv = 1 / |e|^2, 0 for a zero-length segment
+  };
+  template <class T>
+  T pathDistance2(const T& x, const T& y) const;
+
   Operation op_;
+  std::vector<Segment> segments_;
   Joint joints_[2];  // start, end
   Box2 support_;
   std::vector<Vec3> pressPoints_;
