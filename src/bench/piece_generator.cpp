@@ -197,4 +197,13 @@ Operation randomSetOperation(PieceRandom& rng, const GeneratedPiece& piece, doub
   return o;
 }
 
+void moveOperations(GeneratedPiece& piece, double dx, double dy) {
+  for (Operation& o : piece.operations) {
+    for (Vec2& p : o.points) p.x += dx, p.y += dy;
+    o.at.x += dx, o.at.y += dy;
+    o.tool.center.x += dx, o.tool.center.y += dy;
+    o.tool.end.x += dx, o.tool.end.y += dy;
+  }
+}
+
 }  // namespace emboss

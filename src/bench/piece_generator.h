@@ -52,6 +52,9 @@ struct PieceOptions {
 // from behind, the background beaten down around it from the front, a blend (a soldered bead)
 // now and then. Deterministic for a given (operations, seed, options).
 GeneratedPiece generatePiece(int operations, unsigned seed, const PieceOptions& options = {});
+// Moves every operation of the piece by (dx, dy) in the plate's plane (paths, points, tools):
+// a relief generated around the origin put onto a workpiece centred elsewhere.
+void moveOperations(GeneratedPiece& piece, double dx, double dy);
 
 // One more stroke somewhere on the piece's surface (for dirty-update timings): a punch from
 // behind, or one traced segment from the front.

@@ -286,13 +286,7 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
     // The relief is generated over the model's bounds and moved onto it.
     const Box3 b = (*wp)->bounds();
     GeneratedPiece piece = generatePiece(quick ? 50 : 300, 2002, PieceOptions{PieceShape::Plate, b.x1 - b.x0, b.y1 - b.y0, 0.4});
-    const double cx = 0.5 * (b.x0 + b.x1), cy = 0.5 * (b.y0 + b.y1);
-    for (Operation& o : piece.operations) {
-      for (Vec2& p : o.points) p.x += cx, p.y += cy;
-      o.at.x += cx, o.at.y += cy;
-      o.tool.center.x += cx, o.tool.center.y += cy;
-      o.tool.end.x += cx, o.tool.end.y += cy;
-    }
+    moveOperations(piece, 0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
     // Strokes only: a blend on an outline sheet is traced with the model's own intervals (slow).
     std::erase_if(piece.operations, [](const Operation& o) { return !o.isOffset(); });
     piece.workpiece = *wp;

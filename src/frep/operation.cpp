@@ -35,23 +35,9 @@ T segmentDistance2In3D(const P3<T>& p, const Vec3& a, const Vec3& b) {
 }
 
 // Squared distance from (x, y) to a polyline (closed: the last point joins the first).
-// With gradients the nearest segment is found in doubles (the same values: min keeps the first
-// of equal ones, as here) and only its distance is taken with its gradient.
 template <class T>
 T polylineDistance2(const T& x, const T& y, const std::vector<Vec2>& pts, bool closed) {
   if (pts.size() == 1) return sqr(x - pts[0].x) + sqr(y - pts[0].y);
-  if constexpr (std::is_same_v<T, Grad>) {
-    const size_t n = pts.size();
-    const size_t segments = closed && n > 2 ? n : n - 1;
-    const auto end = [&](size_t i) { return i + 1 < n ? i + 1 : 0; };
-    size_t best = 0;
-    double bestV = kernels::segmentDistance2(x.v, y.v, pts[0].x, pts[0].y, pts[1].x, pts[1].y);
-    for (size_t i = 1; i < segments; ++i) {
-      const double v = kernels::segmentDistance2(x.v, y.v, pts[i].x, pts[i].y, pts[end(i)].x, pts[end(i)].y);
-      if (!(bestV <= v)) bestV = v, best = i;  // min(a, b) is b only where !(a.v <= b.v)
-    }
-    return kernels::segmentDistance2(x, y, pts[best].x, pts[best].y, pts[end(best)].x, pts[end(best)].y);
-  }
   T best = kernels::segmentDistance2(x, y, pts[0].x, pts[0].y, pts[1].x, pts[1].y);
   for (size_t i = 2; i < pts.size(); ++i)
     best = min(best, kernels::segmentDistance2(x, y, pts[i - 1].x, pts[i - 1].y, pts[i].x, pts[i].y));

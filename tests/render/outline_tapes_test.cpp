@@ -43,13 +43,7 @@ TEST(OutlineTapes, ThePictureIsTheWholeProgramsByteForByte) {
     PieceOptions opt;
     opt.width = b.x1 - b.x0, opt.height = b.y1 - b.y0, opt.halfThickness = 0.5;
     GeneratedPiece piece = generatePiece(40, seed, opt);
-    const double cx = 0.5 * (b.x0 + b.x1), cy = 0.5 * (b.y0 + b.y1);
-    for (Operation& o : piece.operations) {
-      for (Vec2& p : o.points) p.x += cx, p.y += cy;
-      o.at.x += cx, o.at.y += cy;
-      o.tool.center.x += cx, o.tool.center.y += cy;
-      o.tool.end.x += cx, o.tool.end.y += cy;
-    }
+    moveOperations(piece, 0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
     piece.workpiece = *wp;
     piece.camera = defaultCamera(b);
     Model model(piece.workpiece, piece.deformation);
