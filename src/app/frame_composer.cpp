@@ -266,8 +266,9 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     const double left = budgetMs - msSince(t0);
     if (left <= 0) break;
     Rect& r = coarse_.front();
-    int rows = pxPerMs_ > 0 ? static_cast<int>(left * pxPerMs_ / std::max(1, r.w)) : 8;
-    rows = std::clamp(rows, 4, r.h);
+    // (in doubles first: flush()'s budget would overflow an int)
+    int rows = pxPerMs_ > 0 ? static_cast<int>(std::min(left * pxPerMs_ / std::max(1, r.w), 1e6)) : 8;
+    rows = std::min(std::max(rows, 4), r.h);
     renderRect(Rect{r.x, r.y, r.w, rows}, changed);
     r.y += rows, r.h -= rows;
     if (r.h <= 0) coarse_.erase(coarse_.begin());
@@ -276,7 +277,7 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     const double left = budgetMs - msSince(t0);
     if (left <= 0) break;
     // As many rows as fit in what is left of the budget at the measured speed.
-    int rows = pxPerMs_ > 0 ? static_cast<int>(left * pxPerMs_ / w_) : bandRows_;
+    int rows = pxPerMs_ > 0 ? static_cast<int>(std::min(left * pxPerMs_ / w_, 1e6)) : bandRows_;
     rows = std::clamp(rows, 4, h_);
     const Rect band{0, nextBand_, w_, std::min(rows, h_ - nextBand_)};
     renderRect(band, changed);
