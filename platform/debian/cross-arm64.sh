@@ -16,7 +16,7 @@ sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
 
 # ---- set-up: what the build needs, for arm64 (the tools and header-only packages are shared)
-arm64_dev=(libgtest-dev libgmock-dev libpng-dev libsqlite3-dev zlib1g-dev lib3mf-dev libmeshoptimizer-dev libjpeg62-turbo-dev libfreetype-dev libegl-dev libgles-dev
+arm64_dev=(libgtest-dev libgmock-dev libhwy-dev libpng-dev libsqlite3-dev zlib1g-dev lib3mf-dev libmeshoptimizer-dev libjpeg62-turbo-dev libfreetype-dev libegl-dev libgles-dev
            libgbm-dev libdrm-dev libosmesa6-dev libx11-dev libsystemd-dev libgpiod-dev libusb-1.0-0-dev
            libhidapi-dev libevdev-dev libudev-dev)
 host_tools=(crossbuild-essential-arm64 qemu-user-static pkg-config cmake ninja-build git help2man dpkg-dev file

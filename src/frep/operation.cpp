@@ -365,12 +365,41 @@ T PreparedOp::pathDistance2(const T& x, const T& y) const {
       }
       if (i == 0 || !(bestV <= v)) bestV = v, best = i;  // min(a, b) is b only where !(a.v <= b.v)
     }
-    const auto& pts = op_.points;
-    const Vec2 &a = pts[best], &b = pts[best + 1 < pts.size() ? best + 1 : 0];
-    return kernels::segmentDistance2(x, y, a.x, a.y, b.x, b.y);
+    return segmentDistance2(best, x, y);
   } else {
     return polylineDistance2(x, y, op_.points, closed);
   }
+}
+
+Grad PreparedOp::segmentDistance2(size_t i, const Grad& x, const Grad& y) const {
+  const auto& pts = op_.points;
+  const Vec2 &a = pts[i], &b = pts[i + 1 < pts.size() ? i + 1 : 0];
+  return kernels::segmentDistance2(x, y, a.x, a.y, b.x, b.y);
+}
+
+template <class T>
+T PreparedOp::traceOffset(T t2, const P3<T>& p) const {
+  const Operation& o = op_;
+  const double L = length_;
+  if (!joints_[0].on && !joints_[1].on) return o.sign() * tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
+  // Joints: the line continued through them, the hand-over weights (docs/kernels.md).
+  for (const Joint& k : joints_)
+    if (k.on) t2 = min(t2, kernels::segmentDistance2(p.x, p.y, k.e0.x, k.e0.y, k.e1.x, k.e1.y));
+  T v = tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
+  for (int e = 0; e < 2; ++e) {
+    const Joint& k = joints_[e];
+    if (!k.on) continue;
+    const T w = kernels::joinStep((p.x - k.px) * k.kx + (p.y - k.py) * k.ky);
+    v = v * (e == 0 ? w : T(1.0) - w);
+  }
+  return o.sign() * v;
+}
+
+// The region's descent outside its contour, before its sign.
+template <class T>
+T PreparedOp::regionOutside(const T& t2) const {
+  const Operation& o = op_;
+  return tapered(t2, length_, [&](const T& d2) { return o.height * kernels::agnesi(d2, o.falloff) * (1.0 / o.falloff); });
 }
 
 template <class T>
@@ -378,21 +407,8 @@ T PreparedOp::offset(const P3<T>& p, Deformation model) const {
   const Operation& o = op_;
   const double L = length_;
   switch (o.kind) {
-    case OpKind::Trace: {
-      T t2 = pathDistance2(p.x, p.y);
-      if (!joints_[0].on && !joints_[1].on) return o.sign() * tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
-      // Joints: the line continued through them, the hand-over weights (docs/kernels.md).
-      for (const Joint& k : joints_)
-        if (k.on) t2 = min(t2, kernels::segmentDistance2(p.x, p.y, k.e0.x, k.e0.y, k.e1.x, k.e1.y));
-      T v = tapered(t2, L, [&](const T& d2) { return kernels::agnesi(d2, o.a); });
-      for (int e = 0; e < 2; ++e) {
-        const Joint& k = joints_[e];
-        if (!k.on) continue;
-        const T w = kernels::joinStep((p.x - k.px) * k.kx + (p.y - k.py) * k.ky);
-        v = v * (e == 0 ? w : T(1.0) - w);
-      }
-      return o.sign() * v;
-    }
+    case OpKind::Trace:
+      return traceOffset(pathDistance2(p.x, p.y), p);
     case OpKind::Punch: {
       T r2 = sqr(p.x - o.at.x) + sqr(p.y - o.at.y);
       // The paper's |P'| is the distance in space; the sheet measures it along the sheet.
@@ -414,9 +430,8 @@ T PreparedOp::offset(const P3<T>& p, Deformation model) const {
     }
     case OpKind::Region: {
       const T t2 = pathDistance2(p.x, p.y);
-      auto descent = [&](const T& d2) { return o.height * kernels::agnesi(d2, o.falloff) * (1.0 / o.falloff); };
       if constexpr (std::is_same_v<T, Interval>) {
-        const Interval outside = tapered(t2, L, descent);
+        const Interval outside = regionOutside(t2);
         if (t2.lo > 0.0) {
           // The box does not touch the contour: it lies wholly inside or wholly outside.
           const bool in = insideContour(p.x.mid(), p.y.mid(), o.points);
@@ -425,11 +440,59 @@ T PreparedOp::offset(const P3<T>& p, Deformation model) const {
         return o.sign() * Interval(std::min(outside.lo, o.height), std::max(outside.hi, o.height));
       } else {
         if (insideContour(valueOf(p.x), valueOf(p.y), o.points)) return T(o.sign() * o.height);
-        return o.sign() * tapered(t2, L, descent);
+        return o.sign() * regionOutside(t2);
       }
     }
     default:
       return T(0.0);
+  }
+}
+
+void PreparedOp::offsetRow(double y, const double* xs, int n, Grad* out) const {
+  const Operation& o = op_;
+  const Grad gy(y, 0.0, 1.0, 0.0);
+  auto at = [&](int k) { return P3<Grad>{Grad(xs[k], 1.0, 0.0, 0.0), gy, Grad(0.0)}; };
+  if ((o.kind != OpKind::Trace && o.kind != OpKind::Region) || segments_.empty()) {
+    for (int k = 0; k < n; ++k) out[k] = offset(at(k), Deformation::Sheet);
+    return;
+  }
+  // Per thread: the field's bands are updated on the pool.
+  thread_local std::vector<double> px, bestV, crossings;
+  thread_local std::vector<std::uint32_t> best;
+  thread_local std::vector<int> which;
+  const double* searchX = xs;
+  int searched = n;
+  if (o.kind == OpKind::Region) {
+    // insideContour's crossings of this row, in its arithmetic: a point is inside where an odd
+    // number of them lie to its right (x < xc).
+    crossings.clear();
+    const auto& c = o.points;
+    for (size_t i = 0, j = c.size() - 1; i < c.size(); j = i++)
+      if ((c[i].y > y) != (c[j].y > y)) crossings.push_back(c[j].x + (y - c[j].y) * (c[i].x - c[j].x) / (c[i].y - c[j].y));
+    std::sort(crossings.begin(), crossings.end());
+    // Inside: the region's height; the distance is looked for only outside.
+    px.clear();
+    which.clear();
+    for (int k = 0; k < n; ++k) {
+      const auto right = crossings.end() - std::upper_bound(crossings.begin(), crossings.end(), xs[k]);
+      if (right % 2 == 1) {
+        out[k] = Grad(o.sign() * o.height);
+      } else {
+        px.push_back(xs[k]);
+        which.push_back(k);
+      }
+    }
+    searchX = px.data();
+    searched = static_cast<int>(px.size());
+  }
+  best.resize(static_cast<size_t>(searched));
+  bestV.resize(static_cast<size_t>(searched));
+  nearestSegments(segments_, y, searchX, searched, best.data(), bestV.data());
+  for (int m = 0; m < searched; ++m) {
+    const int k = o.kind == OpKind::Region ? which[static_cast<size_t>(m)] : m;
+    const P3<Grad> p = at(k);
+    const Grad t2 = segmentDistance2(best[static_cast<size_t>(m)], p.x, p.y);
+    out[k] = o.kind == OpKind::Trace ? traceOffset(t2, p) : o.sign() * regionOutside(t2);
   }
 }
 

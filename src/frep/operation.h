@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frep/box.h"
+#include "frep/path_rows.h"
 #include "frep/scalar.h"
 
 namespace emboss {
@@ -101,6 +102,11 @@ class PreparedOp {
   // The signed offset (positive toward the viewer) at p. Offset kinds only.
   template <class T>
   T offset(const P3<T>& p, Deformation model) const;
+  // The sheet's offsets with their gradients at the points (xs[k], y), k < n: offset() of each
+  // point (Deformation::Sheet), the same values bit for bit. A traced line's and a region's nearest
+  // segments are found for the whole row in SIMD lanes (path_rows.h), and a region's inside test
+  // from the row's crossings of its contour, not from every edge at every point.
+  void offsetRow(double y, const double* xs, int n, Grad* out) const;
   // The set operation applied to f at p. Set kinds only.
   template <class T>
   T combine(const T& f, const P3<T>& p) const;
@@ -128,11 +134,17 @@ class PreparedOp {
   // Trace and region: per segment of the path (closed for a region), what
   // kernels::segmentDistance2 works out from its ends alone, so that the nearest segment is
   // found without a division per segment.
-  struct Segment {
-    double ax, ay, ex, ey, inv;  // inv = 1 / |e|^2, 0 for a zero-length segment
-  };
+  using Segment = PathSegment;
   template <class T>
   T pathDistance2(const T& x, const T& y) const;
+  // Segment i's squared distance to (x, y), with its gradient.
+  Grad segmentDistance2(size_t i, const Grad& x, const Grad& y) const;
+  // A traced line's offset at p, its path's squared distance t2 found; a region's outside its
+  // contour.
+  template <class T>
+  T traceOffset(T t2, const P3<T>& p) const;
+  template <class T>
+  T regionOutside(const T& t2) const;
 
   Operation op_;
   std::vector<Segment> segments_;

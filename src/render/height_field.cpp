@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 namespace emboss {
 
@@ -94,16 +95,23 @@ HeightField::SampleRect HeightField::grow(const SampleRect& r, int n) {
 HeightField::SampleRect HeightField::clamp(const SampleRect& r) const { return intersect(r, all()); }
 
 void HeightField::addTo(const PreparedOp& op, const SampleRect& r) {
+  // A row at a time (the sheet's offsets do not depend on z): a path's nearest segments are found
+  // for the whole row in SIMD lanes. Per thread: bands run on the pool.
+  thread_local std::vector<double> xs;
+  thread_local std::vector<Grad> g;
+  const int n = r.i1 - r.i0 + 1;
+  xs.resize(static_cast<size_t>(n));
+  g.resize(static_cast<size_t>(n));
+  for (int i = r.i0; i <= r.i1; ++i) xs[static_cast<size_t>(i - r.i0)] = sampleX(i);
   for (int j = r.j0; j <= r.j1; ++j) {
-    const Grad y(sampleY(j), 0.0, 1.0, 0.0);
+    op.offsetRow(sampleY(j), xs.data(), n, g.data());
     Sample* row = &samples_[static_cast<size_t>(j) * nx_];
     for (int i = r.i0; i <= r.i1; ++i) {
-      // The sheet's offsets do not depend on z.
-      const Grad g = op.offset(P3<Grad>{Grad(sampleX(i), 1.0, 0.0, 0.0), y, Grad(0.0)}, Deformation::Sheet);
+      const Grad& o = g[static_cast<size_t>(i - r.i0)];
       Sample& s = row[i];
-      s.d = static_cast<float>(static_cast<double>(s.d) + g.v);
-      s.dx = static_cast<float>(static_cast<double>(s.dx) + g.dx);
-      s.dy = static_cast<float>(static_cast<double>(s.dy) + g.dy);
+      s.d = static_cast<float>(static_cast<double>(s.d) + o.v);
+      s.dx = static_cast<float>(static_cast<double>(s.dx) + o.dx);
+      s.dy = static_cast<float>(static_cast<double>(s.dy) + o.dy);
     }
   }
 }
