@@ -50,6 +50,8 @@ void onSignal(int) { gStop = 1; }
 
 // Where the package installs the configuration (the unit passes it with --config).
 constexpr const char* kDefaultConfig = "/etc/emboss/kiosk.conf";
+// How long SIGTERM waits for the last frame to be traced for --snapshot (the unit gives 15 s).
+constexpr double kLastFrameLimitMs = 10000.0;
 
 // Log lines may start with a syslog priority, "<7>" (debug) .. "<3>" (error); none is info (6).
 // Lines above --log-level are not written. When stderr is the journal (JOURNAL_STREAM names it)
@@ -522,7 +524,9 @@ int main(int argc, char** argv) {
     feeder.stop = true;
     if (feeder.thread.joinable()) feeder.thread.join();
     notifier->stopping();
-    app.finish(!snapshot.empty());  // the screen's last frame traced to the end only for a snapshot
+    // The screen's last frame traced to the end only for a snapshot, and for at most 10 s: the
+    // unit's stop timeout is 15 s, and the session is saved before.
+    app.finish(!snapshot.empty(), kLastFrameLimitMs);
     int rc = 0;
     if (!snapshot.empty()) {
       Status s = app.writeSnapshot(snapshot);

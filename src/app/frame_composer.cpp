@@ -287,12 +287,18 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
   }
 }
 
-void FrameComposer::flush(std::vector<Rect>& changed) {
+bool FrameComposer::flush(std::vector<Rect>& changed, double limitMs) {
   if (refineAfterMove_) {
     refineAfterMove_ = false;
     nextBand_ = 0;
   }
-  while (pending()) work(1e9, changed);
+  const auto t0 = std::chrono::steady_clock::now();
+  while (pending()) {
+    const double left = std::min(limitMs - msSince(t0), 1e9);
+    if (left <= 0) return false;
+    work(left, changed);
+  }
+  return true;
 }
 
 }  // namespace emboss

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <map>
 #include <optional>
@@ -51,8 +52,9 @@ class FrameComposer {
   void work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone = false);
   // The time dirty rectangles may take before the big ones are shown coarse first (6 ms).
   void setDirtyBudget(double ms) { dirtyMs_ = ms; }
-  // Traces everything pending (for snapshots, saving and exit).
-  void flush(std::vector<Rect>& changed);
+  // Traces everything pending (for snapshots, saving and exit); with a limit, stops after about
+  // limitMs (between two bands) and returns false when something is still pending.
+  bool flush(std::vector<Rect>& changed, double limitMs = std::numeric_limits<double>::infinity());
   bool pending() const { return !urgent_.empty() || !coarse_.empty() || nextBand_ < h_ || needPreview_ || blankCopied_; }
   bool refining() const { return nextBand_ < h_; }
 

@@ -482,7 +482,7 @@ bool KioskApp::step() {
   return !quit_;
 }
 
-void KioskApp::finish(bool completeFrame) {
+void KioskApp::finish(bool completeFrame, double limitMs) {
   if (export_) {  // an export under way stops between two files; what it copied is complete
     export_->stop();
     pollExport();
@@ -514,7 +514,14 @@ void KioskApp::finish(bool completeFrame) {
     benchShown_ = false;
     composer_->show(attract_->model(), attract_->camera(), attract_->shading(), ch, false);
   }
-  composer_->flush(changed);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!composer_->flush(changed, limitMs) && log_) {
+    log_(fmt("stopping: the last frame was not traced to the end within %.0f s; it is presented as far as it got",
+             limitMs / 1000.0));
+  }
+  if (const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); s >= 1.0 && log_) {
+    log_(fmt("stopping: the last frame took %.1f s to trace", s));
+  }
   changed.insert(changed.end(), changed_.begin(), changed_.end());
   changed_.clear();
   if (m == KioskMode::Staff) updateStaffView(now);

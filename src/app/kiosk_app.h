@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <future>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -103,7 +104,10 @@ class KioskApp {
   // At exit: ends a stroke in progress, saves a visitor's session (nothing is lost on shutdown; its
   // picture is traced to the end), and with `completeFrame` finishes tracing the screen and
   // presents the last frame (for a snapshot; without, SIGTERM is not kept waiting for a frame).
-  void finish(bool completeFrame = true);
+  // The tracing stops after about limitMs (systemd's stop timeout is 15 s; an emulated CPU can
+  // take a minute for an exact 1280x800 frame): the frame is then presented as far as it got, and
+  // the log says so.
+  void finish(bool completeFrame = true, double limitMs = std::numeric_limits<double>::infinity());
   // The last frame as on screen (overlay included), as a PNG written atomically.
   Status writeSnapshot(const std::filesystem::path& path);
   // The visitor's session as a scene file: the one in progress, else the last one saved this run,

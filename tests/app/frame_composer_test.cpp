@@ -137,6 +137,31 @@ TEST(FrameComposer, FinishedFrameEqualsAFullRender) {
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, bare2, home, sh).rgba);
 }
 
+// flush() with a limit (the kiosk's last frame on SIGTERM: systemd waits 15 s) stops between bands
+// with the frame still pending, and the rest is traced by the next flush, to the exact frame.
+TEST(FrameComposer, AFlushWithALimitStopsAndTheNextOneFinishes) {
+  ThreadPool pool(2);
+  FrameComposer fc(pool, kW, kH);
+  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(m.add(punch(-20 + 8 * i, 3)));
+  const CameraSpec home = benchCamera(m.workpiece().bounds(), kW, kH);
+  ShadingParams sh;
+  sh.metal = *metalByName("copper");
+  sh.tinge = tinges()[0];
+  sh.frontZ = 0.5;
+  std::vector<Rect> changed;
+  fc.show(m, home, sh, {true, false, {}}, false);
+  EXPECT_FALSE(fc.flush(changed, 0.0)) << "no time at all: nothing finished";
+  EXPECT_TRUE(fc.pending());
+  fc.work(0.5, changed);  // a preview and a band: under way
+  EXPECT_TRUE(fc.refining());
+  EXPECT_FALSE(fc.flush(changed, 0.0));
+  EXPECT_TRUE(fc.refining());
+  EXPECT_TRUE(fc.flush(changed, 60000.0));
+  EXPECT_FALSE(fc.pending());
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh).rgba);
+}
+
 // A dirty rectangle too big to trace within the frame (a raised region close up) is shown coarse
 // at once, the call returning so the kiosk presents it; its exact pixels follow in the next calls,
 // and the finished frame is a full render's, byte for byte.

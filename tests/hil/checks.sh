@@ -13,3 +13,13 @@ wait_for() {  # wait_for SECONDS COMMAND...: true once COMMAND succeeds within S
     sleep 0.2
   done
 }
+stacks() {  # stacks PID: where a process that does not end is (gdb's backtraces, else the kernel's)
+  echo "--- where pid $1 is:"
+  if command -v gdb >/dev/null 2>&1; then
+    gdb -q -batch -p "$1" -ex 'thread apply all bt 30' 2>&1 | grep -v -e '^\[New LWP' -e '^Using host' | head -150
+  fi
+  for t in /proc/"$1"/task/*; do
+    echo "thread ${t##*/} ($(cat "$t/comm" 2>/dev/null)): $(cat "$t/wchan" 2>/dev/null)"
+    cat "$t/stack" 2>/dev/null | head -12
+  done
+}

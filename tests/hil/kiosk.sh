@@ -76,7 +76,7 @@ if wait_for 30 sh -c "! kill -0 $pid 2>/dev/null"; then
   wait $pid; rc=$?
   [ $rc -eq 0 ] && ok "SIGTERM ends the kiosk with status 0" || bad "the kiosk exited $rc on SIGTERM"
 else
-  bad "the kiosk did not end within 30 s of SIGTERM"; kill -KILL $pid
+  bad "the kiosk did not end within 30 s of SIGTERM"; stacks $pid; kill -KILL $pid
 fi
 kill $tablet 2>/dev/null
 echo "--- the kiosk's log (last 20 lines)"; tail -20 "$tmp/kiosk.err"
