@@ -165,10 +165,24 @@ void HeightField::updateTwist(const SampleRect& r) {
 void HeightField::updateLeaves(int la0, int lb0, int la1, int lb1) {
   Level& l = levels_[0];
   const double s = s_;
+  constexpr int kSide = kBlock + 1;  // a leaf's samples each way
   for (int lb = lb0; lb <= lb1; ++lb)
     for (int la = la0; la <= la1; ++la) {
       const int i0 = la * kBlock, i1 = std::min(i0 + kBlock, nx_ - 1);
       const int j0 = lb * kBlock, j1 = std::min(j0 + kBlock, ny_ - 1);
+      // Per sample, once (not once per patch it is a corner of): its value, a third of its scaled
+      // slopes and a ninth of its scaled twist. A corner's signs only negate them (exactly), so the
+      // nets below are those of the patches' own arithmetic, bit for bit.
+      double sd[kSide][kSide], sx[kSide][kSide], sy[kSide][kSide], st[kSide][kSide];
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+          const Sample& k = at(i, j);
+          const int a = i - i0, c = j - j0;
+          sd[a][c] = k.d;
+          sx[a][c] = s * k.dx / 3.0;
+          sy[a][c] = s * k.dy / 3.0;
+          st[a][c] = s * s * k.dxy / 9.0;
+        }
       double lo = std::numeric_limits<double>::infinity(), hi = -lo;
       double uLo = lo, uHi = hi, vLo = lo, vHi = hi;
       for (int j = j0; j < j1; ++j)
@@ -176,17 +190,17 @@ void HeightField::updateLeaves(int la0, int lb0, int la1, int lb1) {
           // The patch's Bezier net b[u][v]: each corner's value, plus or minus a third of its
           // scaled slopes, and a ninth of its scaled twist.
           double b[4][4];
-          const Sample* c[2][2] = {{&at(i, j), &at(i, j + 1)}, {&at(i + 1, j), &at(i + 1, j + 1)}};
           for (int cu = 0; cu < 2; ++cu)
             for (int cv = 0; cv < 2; ++cv) {
-              const Sample& k = *c[cu][cv];
-              const double su = cu ? -1.0 : 1.0, sv = cv ? -1.0 : 1.0;
-              const double x = su * s * k.dx / 3.0, y = sv * s * k.dy / 3.0, t = su * sv * s * s * k.dxy / 9.0;
+              const int a = i - i0 + cu, c = j - j0 + cv;
+              const double d = sd[a][c];
+              const double x = cu ? -sx[a][c] : sx[a][c], y = cv ? -sy[a][c] : sy[a][c];
+              const double t = cu != cv ? -st[a][c] : st[a][c];
               const int u = cu * 3, v = cv * 3, un = cu ? 2 : 1, vn = cv ? 2 : 1;
-              b[u][v] = k.d;
-              b[un][v] = k.d + x;
-              b[u][vn] = k.d + y;
-              b[un][vn] = k.d + x + y + t;
+              b[u][v] = d;
+              b[un][v] = d + x;
+              b[u][vn] = d + y;
+              b[un][vn] = d + x + y + t;
             }
           for (int u = 0; u < 4; ++u)
             for (int v = 0; v < 4; ++v) {
