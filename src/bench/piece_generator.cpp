@@ -182,6 +182,18 @@ Operation randomTraceSegment(PieceRandom& rng, const GeneratedPiece& piece, doub
   return trace(p, {p.x + len * std::cos(t), p.y + len * std::sin(t)}, rng.uniform(0.4, 0.7) * s);
 }
 
+Operation randomRegion(PieceRandom& rng, const GeneratedPiece& piece, double s) {
+  const double r = rng.uniform(6.0, 14.0) * s;
+  const Vec2 c = pointInside(rng, areaOf(piece), r + 4.0 * s);
+  Operation o;
+  o.kind = OpKind::Region;
+  o.side = Side::Back;
+  o.points = outline(rng, c, r, 24 + rng.below(25));
+  o.height = rng.uniform(0.5, 1.0) * s;
+  o.falloff = rng.uniform(1.5, 2.5) * s;
+  return o;
+}
+
 Operation randomSetOperation(PieceRandom& rng, const GeneratedPiece& piece, double s) {
   const Vec2 p = pointInside(rng, areaOf(piece), 10.0 * s);
   const double d = piece.workpiece->halfThickness();

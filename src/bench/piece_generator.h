@@ -60,6 +60,9 @@ void moveOperations(GeneratedPiece& piece, double dx, double dy);
 // behind, or one traced segment from the front.
 Operation randomPunch(PieceRandom& rng, const GeneratedPiece& piece, double toolScale = 1.0);
 Operation randomTraceSegment(PieceRandom& rng, const GeneratedPiece& piece, double toolScale = 1.0);
+// A raised region from behind as a visitor draws one: a closed wobbly outline of 24 to 48 points,
+// 6 to 14 mm across its radius (times toolScale).
+Operation randomRegion(PieceRandom& rng, const GeneratedPiece& piece, double toolScale = 1.0);
 // A random set operation (blend_union, subtract or blend_subtract) on the surface.
 Operation randomSetOperation(PieceRandom& rng, const GeneratedPiece& piece, double toolScale = 1.0);
 

@@ -10,6 +10,7 @@
 
 #include "bench/baseline_2d.h"
 #include "bench/piece_generator.h"
+#include "frep/path_rows.h"
 #include "frep/vm_generate.h"
 #include "frep/vm_model.h"
 #include "render/renderer.h"
@@ -47,6 +48,7 @@ struct Row {
   size_t ops = 0;
   double buildMs = 0, frameMs = 0, frameCpuMs = 0, traceCpuMs = 0, shadeCpuMs = 0;
   double punchMs = 0, punchWorstMs = 0, segmentMs = 0, segmentWorstMs = 0, undoMs = 0;
+  double regionMs = 0, regionWorstMs = 0, regionPixels = 0;
   double punchPixels = 0, segmentPixels = 0;
   double opsPerEval = 0, stepsPerRay = 0, evalsPerRay = 0;
   double exactOpsPerEval = 0, exactWindowMs = 0;
@@ -190,6 +192,24 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
     r.render(image, rect);
     undo.push_back(msSince(t0));
   }
+  // Raised regions (the biggest field update a visitor makes): fewer of them.
+  std::vector<double> region;
+  double regionPx = 0;
+  const int regions = std::max(3, s.strokes / 4);
+  for (int i = 0; i < regions; ++i) {
+    t0 = Clock::now();
+    (void)model.add(randomRegion(rng, piece));
+    r.sync(model);
+    Rect rect = r.dirtyRect(model, model.activeCount() - 1);
+    r.render(image, rect);
+    region.push_back(msSince(t0));
+    regionPx += rect.area();
+    model.undo();
+    r.sync(model);
+    rect = r.dirtyRect(model, model.activeCount());
+    r.render(image, rect);
+  }
+  row.regionMs = mean(region), row.regionWorstMs = worst(region), row.regionPixels = regionPx / regions;
   row.punchMs = mean(punch), row.punchWorstMs = worst(punch);
   row.segmentMs = mean(segment), row.segmentWorstMs = worst(segment);
   row.undoMs = mean(undo);
@@ -226,14 +246,15 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
        fmt("%.1f", b.ms) + " ms (median; " + std::to_string(b.intervalEvals) + " interval and " + std::to_string(b.pointEvals) +
        " point evaluations, tapes pruned from " + std::to_string(b.fullTape) + " to " + fmt("%.0f", b.leafTape) +
        " nodes on average in the 8x8 cells, " + fmt("%.0f", 100.0 * b.inside) + "% inside). Target: a full frame <= 1.5x it.\n\n";
-  t += "| piece | ops | build ms | full frame ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | renderer MB |\n";
-  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  t += "| piece | ops | build ms | full frame ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | region update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | renderer MB |\n";
+  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
     const double ratio = r.fieldWindowMs > 0 ? r.naiveWindowMs / r.fieldWindowMs : 0.0;
     t += "| " + r.piece + " | " + std::to_string(r.ops) + " | " + fmt("%.0f", r.buildMs) + " | " + fmt("%.1f", r.frameMs) +
          " | " + (b.ms > 0 ? fmt("%.2fx", r.frameMs / b.ms) : std::string("-")) + " | " + fmt("%.0f", r.frameCpuMs) + " (" + fmt("%.0f", r.traceCpuMs) + " + " + fmt("%.0f", r.shadeCpuMs) + ")" +
          " | " + fmt("%.2f", r.punchMs) + " (" + fmt("%.2f", r.punchWorstMs) + ")" + " | " + fmt("%.2f", r.segmentMs) + " (" +
-         fmt("%.2f", r.segmentWorstMs) + ")" + " | " + fmt("%.2f", r.undoMs) + " | " + fmt("%.2f", r.opsPerEval) + " | " +
+         fmt("%.2f", r.segmentWorstMs) + ")" + " | " + fmt("%.1f", r.regionMs) + " (" + fmt("%.1f", r.regionWorstMs) + ")" +
+         " | " + fmt("%.2f", r.undoMs) + " | " + fmt("%.2f", r.opsPerEval) + " | " +
          fmt("%.1f", r.candidates) + " (" + fmt("%.0f", r.candidatesMax) + ") | " + fmt("%.1f", r.exactOpsPerEval) + " | " + fmt("%.2f", r.stepsPerRay) + " | " + fmt("%.2f", r.evalsPerRay) + " | " +
          r.window + ": " + fmt("%.0f", r.naiveWindowMs) + " ms vs " + fmt("%.1f", r.fieldWindowMs) + " ms | " +
          fmt("%.0f", r.naiveFullEstimateMs) + " | " + fmt("%.0f", ratio) + "x | " + fmt("%.0f", r.rendererMb) + " |\n";
@@ -242,6 +263,9 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
        "per frame; trace + shade: thread time summed over tiles. punch / segment update: add + sync + dirty rectangle "
        "traced, wall time (mean pixels traced: ";
   for (const Row& r : rows) t += r.piece + " " + fmt("%.0f", r.punchPixels) + " / " + fmt("%.0f", r.segmentPixels) + "; ";
+  t += "). region update: the same for a raised region of 24 to 48 points, 6 to 14 mm in radius (the field under it "
+       "found a row at a time in " + std::string(simdTargetName()) + " lanes; mean pixels traced: ";
+  for (const Row& r : rows) t += r.piece + " " + fmt("%.0f", r.regionPixels) + "; ";
   t += "). undo: the same after undoing the stroke. ops/eval field: operation kernels evaluated per function evaluation "
        "by the field tracer (the displacement field stands for the offsets). index candidates: operations the grid "
        "lists at random points of the piece (what an exact evaluation through the index touches). ops/eval exact "
