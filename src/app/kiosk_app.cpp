@@ -515,12 +515,12 @@ void KioskApp::finish(bool completeFrame, double limitMs) {
     composer_->show(attract_->model(), attract_->camera(), attract_->shading(), ch, false);
   }
   const auto t0 = std::chrono::steady_clock::now();
-  if (!composer_->flush(changed, limitMs) && log_) {
-    log_(fmt("stopping: the last frame was not traced to the end within %.0f s; it is presented as far as it got",
-             limitMs / 1000.0));
-  }
-  if (const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); s >= 1.0 && log_) {
-    log_(fmt("stopping: the last frame took %.1f s to trace", s));
+  const bool traced = composer_->flush(changed, limitMs);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!traced && log_) {
+    log_(fmt("stopping: the last frame was not traced to the end within %.1f s; it is presented as far as it got", took));
+  } else if (took >= 1.0 && log_) {
+    log_(fmt("stopping: the last frame took %.1f s to trace", took));
   }
   changed.insert(changed.end(), changed_.begin(), changed_.end());
   changed_.clear();

@@ -96,7 +96,7 @@ kill -TERM $pid 2>/dev/null
 term=$(date +%s)
 if wait_for 60 sh -c "! kill -0 $pid 2>/dev/null"; then
   wait $pid; rc=$?
-  last=$(grep 'stopping: ' "$tmp/err" | sed 's/^emboss-kiosk: //' | tr '\n' ' ')
+  last=$(grep -m1 'stopping: ' "$tmp/err" | sed 's/^emboss-kiosk: //')
   [ $rc -eq 0 ] && ok "SIGTERM ends the kiosk with status 0 in $(($(date +%s) - term)) s${last:+ ($last)}" || bad "the kiosk exited $rc on SIGTERM"
 else
   bad "the kiosk did not end within 60 s of SIGTERM"; stacks $pid; kill -KILL $pid
