@@ -24,6 +24,15 @@ Image fullRender(ThreadPool& pool, const Model& m, const CameraSpec& c, const Sh
   return img;
 }
 
+// The shading of a bare 0.5 mm sheet of the named metal.
+ShadingParams sheetOf(const char* metal) {
+  ShadingParams sh;
+  sh.metal = *metalByName(metal);
+  sh.tinge = tinges()[0];
+  sh.frontZ = 0.5;
+  return sh;
+}
+
 Operation punch(double x, double y) {
   Operation op;
   op.kind = OpKind::Punch;
@@ -51,10 +60,7 @@ TEST(FrameComposer, ReleaseGivesBackWhatAClearedModelHeld) {
   Model bench(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
   Model attract(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
   const CameraSpec home = benchCamera(bench.workpiece().bounds(), kW, kH);
-  ShadingParams sh;
-  sh.metal = *metalByName("copper");
-  sh.tinge = tinges()[0];
-  sh.frontZ = 0.5;
+  const ShadingParams sh = sheetOf("copper");
   std::vector<Rect> changed;
   fc.show(bench, home, sh, {true, false, {}}, false);
   fc.flush(changed);
@@ -90,10 +96,7 @@ TEST(FrameComposer, FinishedFrameEqualsAFullRender) {
   FrameComposer fc(pool, kW, kH);
   Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
   const CameraSpec home = benchCamera(m.workpiece().bounds(), kW, kH);
-  ShadingParams sh;
-  sh.metal = *metalByName("copper");
-  sh.tinge = tinges()[0];
-  sh.frontZ = 0.5;
+  const ShadingParams sh = sheetOf("copper");
   std::vector<Rect> changed;
   fc.show(m, home, sh, {true, false, {}}, false);
   fc.work(1.0, changed);  // a preview and a band or two: not finished
@@ -145,10 +148,7 @@ TEST(FrameComposer, AFlushWithALimitStopsAndTheNextOneFinishes) {
   Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
   for (int i = 0; i < 6; ++i) ASSERT_TRUE(m.add(punch(-20 + 8 * i, 3)));
   const CameraSpec home = benchCamera(m.workpiece().bounds(), kW, kH);
-  ShadingParams sh;
-  sh.metal = *metalByName("copper");
-  sh.tinge = tinges()[0];
-  sh.frontZ = 0.5;
+  const ShadingParams sh = sheetOf("copper");
   std::vector<Rect> changed;
   fc.show(m, home, sh, {true, false, {}}, false);
   EXPECT_FALSE(fc.flush(changed, 0.0)) << "no time at all: nothing finished";
@@ -171,10 +171,7 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
   FrameComposer fc(pool, w, h);
   Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
   const CameraSpec home = benchCamera(m.workpiece().bounds(), w, h);
-  ShadingParams sh;
-  sh.metal = *metalByName("copper");
-  sh.tinge = tinges()[0];
-  sh.frontZ = 0.5;
+  const ShadingParams sh = sheetOf("copper");
   std::vector<Rect> changed;
   fc.show(m, home, sh, {true, false, {}}, false);
   fc.flush(changed);  // the bands measure the tracing speed
@@ -231,10 +228,7 @@ TEST(FrameComposer, GoingBackAndForthBetweenTwoModelsRebuildsNoField) {
   Model piece(plate, Deformation::Sheet), bench(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
   for (int i = 0; i < 4; ++i) ASSERT_TRUE(piece.add(punch(-15 + 10 * i, -5)));
   const CameraSpec home = benchCamera(plate->bounds(), kW, kH);
-  ShadingParams sh;
-  sh.metal = *metalByName("brass");
-  sh.tinge = tinges()[0];
-  sh.frontZ = 0.5;
+  const ShadingParams sh = sheetOf("brass");
   std::vector<Rect> all;
   fc.show(piece, home, sh, {true, false, {}}, false);
   fc.flush(all);
