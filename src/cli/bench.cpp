@@ -173,42 +173,34 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
   // One more stroke, traced as the kiosk does: add, sync, the dirty rectangle only. Each is
   // undone again (timed apart) so that every stroke lands on the same piece.
   PieceRandom rng(1234);
+  // Adds op and traces its dirty rectangle (timed, into ms and px), then undoes it (into undoMs).
+  auto stroke = [&](const Operation& op, std::vector<double>& ms, double& px, std::vector<double>& undoMs) {
+    auto t = Clock::now();
+    (void)model.add(op);
+    r.sync(model);
+    Rect rect = r.dirtyRect(model, model.activeCount() - 1);
+    r.render(image, rect);
+    ms.push_back(msSince(t));
+    px += rect.area();
+    t = Clock::now();
+    model.undo();
+    r.sync(model);
+    rect = r.dirtyRect(model, model.activeCount());
+    r.render(image, rect);
+    undoMs.push_back(msSince(t));
+  };
   std::vector<double> punch, segment, undo;
   double punchPx = 0, segmentPx = 0;
   for (int i = 0; i < 2 * s.strokes; ++i) {
     const bool isPunch = i % 2 == 0;
     const Operation op = isPunch ? randomPunch(rng, piece) : randomTraceSegment(rng, piece);
-    t0 = Clock::now();
-    (void)model.add(op);
-    r.sync(model);
-    Rect rect = r.dirtyRect(model, model.activeCount() - 1);
-    r.render(image, rect);
-    (isPunch ? punch : segment).push_back(msSince(t0));
-    (isPunch ? punchPx : segmentPx) += rect.area();
-    t0 = Clock::now();
-    model.undo();
-    r.sync(model);
-    rect = r.dirtyRect(model, model.activeCount());
-    r.render(image, rect);
-    undo.push_back(msSince(t0));
+    stroke(op, isPunch ? punch : segment, isPunch ? punchPx : segmentPx, undo);
   }
-  // Raised regions (the biggest field update a visitor makes): fewer of them.
-  std::vector<double> region;
+  // Raised regions (the biggest field update a visitor makes): fewer of them, their undos apart.
+  std::vector<double> region, regionUndo;
   double regionPx = 0;
   const int regions = std::max(3, s.strokes / 4);
-  for (int i = 0; i < regions; ++i) {
-    t0 = Clock::now();
-    (void)model.add(randomRegion(rng, piece));
-    r.sync(model);
-    Rect rect = r.dirtyRect(model, model.activeCount() - 1);
-    r.render(image, rect);
-    region.push_back(msSince(t0));
-    regionPx += rect.area();
-    model.undo();
-    r.sync(model);
-    rect = r.dirtyRect(model, model.activeCount());
-    r.render(image, rect);
-  }
+  for (int i = 0; i < regions; ++i) stroke(randomRegion(rng, piece), region, regionPx, regionUndo);
   row.regionMs = mean(region), row.regionWorstMs = worst(region), row.regionPixels = regionPx / regions;
   row.punchMs = mean(punch), row.punchWorstMs = worst(punch);
   row.segmentMs = mean(segment), row.segmentWorstMs = worst(segment);

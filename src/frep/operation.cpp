@@ -342,29 +342,17 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
 }
 
 // The squared distance to the path (polylineDistance2's value). With gradients the nearest
-// segment is found in doubles from the segments' precomputed parts (the arithmetic of
-// kernels::segmentDistance2, so the same values, the first of equal ones kept as min keeps it),
-// and only its distance is taken with its gradient.
+// segment is found in doubles from the segments' precomputed parts by nearestSegments (the
+// arithmetic of kernels::segmentDistance2, so the same values, the first of equal ones kept as
+// min keeps it), and only its distance is taken with its gradient.
 template <class T>
 T PreparedOp::pathDistance2(const T& x, const T& y) const {
   const bool closed = op_.kind == OpKind::Region;
   if constexpr (std::is_same_v<T, Grad>) {
     if (segments_.empty()) return polylineDistance2(x, y, op_.points, closed);
-    size_t best = 0;
+    std::uint32_t best = 0;
     double bestV = 0.0;
-    for (size_t i = 0; i < segments_.size(); ++i) {
-      const Segment& g = segments_[i];
-      const double px = x.v - g.ax, py = y.v - g.ay;
-      double v;
-      if (g.inv == 0.0) {
-        v = sqr(px) + sqr(py);
-      } else {
-        double t = (px * g.ex + py * g.ey) * g.inv;
-        t = std::min(std::max(t, 0.0), 1.0);
-        v = sqr(px - t * g.ex) + sqr(py - t * g.ey);
-      }
-      if (i == 0 || !(bestV <= v)) bestV = v, best = i;  // min(a, b) is b only where !(a.v <= b.v)
-    }
+    nearestSegments(segments_, y.v, &x.v, 1, &best, &bestV);
     return segmentDistance2(best, x, y);
   } else {
     return polylineDistance2(x, y, op_.points, closed);
