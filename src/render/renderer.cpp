@@ -122,11 +122,24 @@ Rect grownWithin(const Rect& r, int n, int w, int h) {
 
 }  // namespace
 
-glm::dvec3 Renderer::sample(double sx, double sy, bool field, RenderStats& st, std::vector<std::uint32_t>& scratch,
-                            glm::vec3* normalOut) const {
+glm::dvec3 Renderer::sample(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
+                            std::vector<std::uint32_t>& scratch) const {
+  glm::vec3 n;
+  if (const auto c = shadeRay(sx, sy, field, reach, st, scratch, n)) return *c;
+  return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
+}
+
+std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
+                                             std::vector<std::uint32_t>& scratch, glm::vec3& normalOut) const {
+  normalOut = glm::vec3(0.0f);
+  // Outside the projection of every surface the ray misses for certain: not even set up.
+  if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h) {
+    ++st.rays;
+    return std::nullopt;
+  }
   const auto hit = field ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
-  if (normalOut) *normalOut = hit ? glm::vec3(hit->n) : glm::vec3(0.0f);
-  if (!hit) return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
+  if (!hit) return std::nullopt;
+  normalOut = glm::vec3(hit->n);
   double cavity = 0.0;
   if (field) {
     cavity = cavityAt(hit->p.x, hit->p.y, [&](double x, double y) { return field_.valueBilinear(x, y); });
@@ -189,8 +202,13 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
       if (stats) *stats += st;
     }, cancel) && !aborted.load();
   };
+  // Rays through image points outside `reach` miss every surface: the projection of the box that
+  // holds them (projectBox() is conservative by a pixel).
+  const Rect reach = projectBox(field ? fieldClip_ : bounds_);
+  // A miss's centre colour (the backdrop) is only needed on an edge: found there.
   const bool traced = pass(ring, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
-    centre[at(x, y)] = glm::vec3(sample(x + 0.5, y + 0.5, field, st, scratch, &normal[at(x, y)]));
+    const size_t i = at(x, y);
+    if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i])) centre[i] = glm::vec3(*c);
   });
   if (!traced) return false;
   return pass(rect, &RenderStats::shadeSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
@@ -208,9 +226,9 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
       const std::uint8_t* bd = &backdrop_[(static_cast<size_t>(y) * w + x) * 3];
       px[0] = bd[0], px[1] = bd[1], px[2] = bd[2];
     } else {
-      glm::dvec3 c(centre[i]);
+      glm::dvec3 c = hit ? glm::dvec3(centre[i]) : glm::dvec3(glm::vec3(backdrop(x, y, w, h)));
       if (edge) {
-        for (const auto& o : kEdgeSamples) c += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, st, scratch);
+        for (const auto& o : kEdgeSamples) c += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, reach, st, scratch);
         c /= 3.0;
         ++st.edgePixels;
       }

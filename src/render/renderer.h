@@ -137,10 +137,13 @@ class Renderer {
   // Rays through image point (sx, sy) (pixel x's centre is x + 0.5).
   std::optional<Hit> traceExact(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
   std::optional<Hit> traceField(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
-  // The linear colour of the ray through (sx, sy): shaded metal, or the backdrop; *normal gets
-  // the hit's unit normal, or zero where the ray misses.
-  glm::dvec3 sample(double sx, double sy, bool field, RenderStats& st, std::vector<std::uint32_t>& scratch,
-                    glm::vec3* normal = nullptr) const;
+  // The linear colour of the ray through (sx, sy) where it hits (normal gets the hit's unit
+  // normal), nothing where it misses (normal gets zero). Image points outside `reach` miss.
+  std::optional<glm::dvec3> shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
+                                     std::vector<std::uint32_t>& scratch, glm::vec3& normal) const;
+  // The same, the backdrop where it misses.
+  glm::dvec3 sample(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
+                    std::vector<std::uint32_t>& scratch) const;
   // dirtyRect() before the anti-aliasing's one pixel.
   Rect dirtyRectOfRays(const Model& model, size_t index) const;
   template <class T>
@@ -184,6 +187,9 @@ class Renderer {
   };
   SavedSamples saved_;
   int workpieceKind_ = 0;  // 1 plate, 2 disc, 3 bowl (known Lipschitz bounds), 4 outline sheet (2D vm), 0 other
+  // Plates, discs and outline sheets: W(x, y, z') <= d - z', so f < 0 wherever z > D + d (above the
+  // sheet's front face). d there, else negative.
+  double frontThickness_ = -1.0;
   // Outline sheets, W = min(O(x, y), d - |z|), over blocks of 2 x 2 field cells: bounds of
   // min(O, d) per column. Where the slab d - |z'| <= lo, W is the slab bit for bit; where hi < 0,
   // W < 0 at every z.

@@ -111,6 +111,9 @@ struct Renderer::RayContext {
   // windows |df/dt| <= lf; inside them (and everywhere without it) intervals bound f.
   bool lipschitz = false;
   double lf = 0.0;
+  // The last grid point above the sheet's front face over the whole ray's reach (f < 0 up to it
+  // outside the windows), or less than the first.
+  long topQ = std::numeric_limits<long>::min();
   static constexpr int kMaxWindows = 8;
   long winLo[kMaxWindows], winHi[kMaxWindows];  // ascending, disjoint, in grid units
   int windows = 0;

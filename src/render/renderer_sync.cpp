@@ -57,6 +57,7 @@ void Renderer::rebuildField(const Model& model) {
   const auto* vm = dynamic_cast<const VmWorkpiece*>(w);
   if (vm && vm->isPlate()) workpieceKind_ = 4;
   if (workpieceKind_ == 4) buildColumns();
+  frontThickness_ = workpieceKind_ == 1 || workpieceKind_ == 2 || workpieceKind_ == 4 ? w->halfThickness() : -1.0;
   bool anyOffset = false;
   for (size_t i = 0; i < model.activeCount() && !anyOffset; ++i) anyOffset = model.operations()[i].op().isOffset();
   if (anyOffset) {

@@ -42,6 +42,19 @@ TEST(Srgb8, MatchesAroundEveryStep) {
   }
 }
 
+TEST(Srgb8, MatchesAtEveryBucketsEdges) {
+  // The lookup starts from buckets of 1/128 of an octave: their edges, and values beyond the
+  // octaves they cover (tiny and bright), on both sides.
+  for (int e = -24; e <= 4; ++e)
+    for (int m = 0; m < 128; ++m) {
+      const std::uint64_t edge = std::bit_cast<std::uint64_t>(std::ldexp(1.0 + m / 128.0, e));
+      for (std::uint64_t bits = edge - 3; bits <= edge + 3; ++bits) {
+        const double x = std::bit_cast<double>(bits);
+        ASSERT_EQ(toSrgb8Fast(glm::dvec3(x, x, x)), toSrgb8(glm::dvec3(x, x, x))) << x;
+      }
+    }
+}
+
 TEST(Srgb8, OddValuesFallBack) {
   for (double x : {-0.0, -1.0, 1e7, 1e300, std::numeric_limits<double>::infinity(), std::nan("")}) {
     const glm::dvec3 c(x, 0.5, 0.25);
