@@ -439,26 +439,11 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     q += kCell, fa = fb;
   }
   if (bracketed) {
-    // Regula falsi with the Illinois modification inside [bq - 1, bq]: a function of
-    // f on that sixty-fourth of a cell alone.
-    double a = static_cast<double>(bq - 1) * h8, b = static_cast<double>(bq) * h8, fa = bfa, fb = bfb;
-    int side = 0;
-    for (int i = 0; i < kRefinements; ++i) {
-      const double t = b - fb * (b - a) / (fb - fa);
-      if (!(t > a && t < b)) break;
-      const double ft = fieldValue(rc, ray.origin + t * ray.dir, st, scratch);
-      if (ft >= 0.0) {
-        b = t, fb = ft;
-        if (side == 1) fa *= 0.5;
-        side = 1;
-      } else {
-        a = t, fa = ft;
-        if (side == -1) fb *= 0.5;
-        side = -1;
-      }
-      if (std::abs(ft) < 1e-12) break;
-    }
-    tHit = std::clamp(b - fb * (b - a) / (fb - fa), a, b);
+    // The secant inside [bq - 1, bq]: a function of f at those two points alone. That sixty-fourth
+    // of a cell is a few micrometres: a regula falsi step inside it changed three pixels in a
+    // million, for an evaluation a hit.
+    const double a = static_cast<double>(bq - 1) * h8, b = static_cast<double>(bq) * h8;
+    tHit = std::clamp(b - bfb * (b - a) / (bfb - bfa), a, b);
   }
   if (!tHit) return std::nullopt;
   ++st.hits;

@@ -34,7 +34,6 @@ inline constexpr double kFieldSpacing = 0.125;    // mm between displacement sam
 inline constexpr double kMaxFieldSamples = 32e6;  // beyond this the spacing grows (a huge workpiece)
 inline constexpr double kFieldMargin = 2.0;       // mm of field beyond the workpiece's bounds
 inline constexpr int kSubdivisions = 64;          // a cell is searched down to h / 64 (as the exact tracer)
-inline constexpr int kRefinements = 1;            // regula falsi (Illinois) steps inside the final h / 64
 inline constexpr double kPruneEps = 1e-7;         // mm: a bound must clear zero by this much to skip
 inline constexpr int kRecomputeTile = 64;         // samples per side of a field tile recomputed in parallel
 

@@ -261,22 +261,24 @@ struct MetalResponse {
 // dimples whose largest slope is `slope`.
 glm::dvec2 hammerGradient(double x, double y, double slope) {
   constexpr double kCell = 1.6, kRadius = 1.25;
+  constexpr double kInvR2 = 1.0 / (kRadius * kRadius), kJitter = 0.7 / 65535.0;
   // h(d) = -A (1 - d^2/R^2)^2 for d < R: largest slope 16 A / (3 sqrt(3) R) at d = R / sqrt(3).
   const double amp = slope * 3.0 * std::sqrt(3.0) * kRadius / 16.0;
+  const double k0 = 4.0 * amp * kInvR2;
   const int cx = static_cast<int>(std::floor(x / kCell)), cy = static_cast<int>(std::floor(y / kCell));
-  glm::dvec2 g(0.0);
+  // The nine cells around: no division and no branch per cell (a dimple out of reach weighs 0).
+  double gx = 0.0, gy = 0.0;
   for (int j = cy - 1; j <= cy + 1; ++j)
     for (int i = cx - 1; i <= cx + 1; ++i) {
       std::uint32_t hsh = static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u;
       hsh ^= hsh >> 15, hsh *= 0x2C1B3C6Du, hsh ^= hsh >> 12, hsh *= 0x297A2D39u, hsh ^= hsh >> 15;
-      const double fx = (i + 0.15 + 0.7 * (hsh & 0xFFFF) / 65535.0) * kCell;
-      const double fy = (j + 0.15 + 0.7 * (hsh >> 16) / 65535.0) * kCell;
-      const double dx = x - fx, dy = y - fy, u = (dx * dx + dy * dy) / (kRadius * kRadius);
-      if (u >= 1.0) continue;
-      const double k = 4.0 * amp * (1.0 - u) / (kRadius * kRadius);
-      g += glm::dvec2(k * dx, k * dy);
+      const double fx = (i + 0.15 + kJitter * (hsh & 0xFFFF)) * kCell;
+      const double fy = (j + 0.15 + kJitter * (hsh >> 16)) * kCell;
+      const double dx = x - fx, dy = y - fy;
+      const double k = k0 * std::max(0.0, 1.0 - (dx * dx + dy * dy) * kInvR2);
+      gx += k * dx, gy += k * dy;
     }
-  return g;
+  return {gx, gy};
 }
 
 // Everything computed once per metal (and shared by every thread for the program's life).
