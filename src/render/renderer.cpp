@@ -174,8 +174,8 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
   const Rect ring = grownWithin(rect, 1, w, h);
   // Per pixel of the ring: the centre sample's linear colour and its normal (zero: no hit).
   std::vector<glm::vec3> centre(static_cast<size_t>(ring.w) * ring.h), normal(centre.size());
+  std::vector<std::uint8_t> hits(centre.size(), 0);
   auto at = [&](int x, int y) { return static_cast<size_t>(y - ring.y) * ring.w + (x - ring.x); };
-  const glm::vec3 none(0.0f);
   // Small rectangles (dirty updates) in smaller tiles, so that every thread gets a share; the
   // tiles change no pixel.
   int tileSize = options_.tileSize;
@@ -208,18 +208,18 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
   // A miss's centre colour (the backdrop) is only needed on an edge: found there.
   const bool traced = pass(ring, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     const size_t i = at(x, y);
-    if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i])) centre[i] = glm::vec3(*c);
+    if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i])) centre[i] = glm::vec3(*c), hits[i] = 1;
   });
   if (!traced) return false;
   return pass(rect, &RenderStats::shadeSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     const size_t i = at(x, y);
-    const bool hit = normal[i] != none;
+    const bool hit = hits[i] != 0;
     bool edge = false;
     for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
       const int nx = x + dx, ny = y + dy;
       if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
       const size_t j = at(nx, ny);
-      if ((normal[j] != none) != hit || (hit && glm::dot(normal[i], normal[j]) < kCreaseCos)) edge = true;
+      if ((hits[j] != 0) != hit || (hit && glm::dot(normal[i], normal[j]) < kCreaseCos)) edge = true;
     }
     std::uint8_t* px = image.pixel(x, y);
     if (!edge && !hit) {

@@ -383,11 +383,16 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
         }
         shortSteps = 5;
       } else if (fa.l < 0.0) {
-        const long reachQ = std::min(q1, q + static_cast<long>(std::min(-fa.l / h8, 1e15)) + 1);
+        // The stretch the step can reach when the ray's slope bound is at least kStepRate; a step
+        // is never longer than the stretch its bound holds on (lf can be below 1 on a shallow
+        // ray), and the whole ray's bound holds everywhere.
+        constexpr double kStepRate = 0.9;
+        const long reachQ = std::min(q1, q + static_cast<long>(std::min(-fa.l / (kStepRate * h8), 1e15)) + 1);
         const Box2 step = xyBox(pq, at(reachQ));
         const Box2 inDomain{std::max(step.x0, dom.x0), std::max(step.y0, dom.y0), std::min(step.x1, dom.x1), std::min(step.y1, dom.y1)};
         const double lf = lipschitzAlong(ray.dir, field_.bound(inDomain), workpieceKind_);
-        n = static_cast<long>(std::min((-fa.l - kPruneEps) / (lf * h8), 1e15));
+        n = std::min(static_cast<long>(std::min((-fa.l - kPruneEps) / (lf * h8), 1e15)), reachQ - q - 1);
+        n = std::max(n, static_cast<long>(std::min((-fa.l - kPruneEps) / (rc.lf * h8), 1e15)));
         n = std::max(0L, std::min(n, rc.nextWindow(q + 1, q1 + 1) - q - 1));
       }
       shortSteps = n < kSubdivisions / 8 ? shortSteps + 1 : 0;
