@@ -49,7 +49,7 @@ std::vector<Rect> mergeRects(std::vector<Rect> rects) {
 }
 
 FrameComposer::FrameComposer(ThreadPool& pool, int width, int height)
-    : pool_(pool), w_(width), h_(height), frame_(width, height) {
+    : pool_(pool), w_(width), h_(height), frame_(width, height), rowMs_(static_cast<size_t>(std::max(height, 0)), 0.0f) {
   for (Slot& s : slots_) s.renderer = std::make_unique<Renderer>(pool_);
   slot_ = &slots_[0];
   renderer_ = slot_->renderer.get();
@@ -147,17 +147,39 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
   }
 }
 
-void FrameComposer::renderRect(const Rect& r, std::vector<Rect>& changed) {
+double FrameComposer::renderRect(const Rect& r, std::vector<Rect>& changed, bool onPiece) {
   RenderStats st;
   const auto t0 = std::chrono::steady_clock::now();
   renderer_->render(frame_, r, &st);
   const double ms = msSince(t0);
   counters_.render += st;
-  if (ms > 0.5 && r.area() > 0) {
+  // The dirty budget's speed is measured on what strokes change (the piece); a band's rows of
+  // backdrop cost a small fraction of a row across the piece.
+  if (onPiece && ms > 0.5 && r.area() > 0) {
     const double speed = r.area() / ms;
     pxPerMs_ = pxPerMs_ <= 0 ? speed : 0.8 * pxPerMs_ + 0.2 * speed;
   }
   changed.push_back(r);
+  return ms;
+}
+
+int FrameComposer::bandRows(double leftMs) const {
+  // Rows from nextBand_ while their cost fits in what is left: each row's cost as measured last
+  // time it was traced in a band; a row not measured yet costs the dearest row measured, or a
+  // row of piece at the dirty rectangles' speed, whichever is more.
+  double unknown = maxRowMs_;
+  if (pxPerMs_ > 0) unknown = std::max(unknown, w_ / pxPerMs_);
+  if (unknown <= 0) return bandRows_;
+  double sum = 0;
+  int rows = 0;
+  while (nextBand_ + rows < h_) {
+    const float m = rowMs_[static_cast<size_t>(nextBand_ + rows)];
+    const double c = m > 0 ? m : unknown;
+    if (rows >= 4 && sum + c > leftMs) break;
+    sum += c;
+    ++rows;
+  }
+  return rows;
 }
 
 // Bilinear enlargement into the frame, in 8-bit fixed point (weights 0..256): the columns'
@@ -247,17 +269,18 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
   // is traced exactly), the big rectangles are traced coarse now and exactly after the present.
   long area = 0;
   for (const Rect& r : dirty) area += r.area();
-  const bool tooSlow = pxPerMs_ > 0 && area > dirtyMs_ * pxPerMs_;
+  const double speed = dirtySpeed();
+  const bool tooSlow = speed > 0 && area > dirtyMs_ * speed;
   bool anyCoarse = false;
   for (const Rect& r : dirty) {
     ++counters_.dirtyRects;
     counters_.dirtyPixels += r.area();
-    if (tooSlow && r.area() > 0.25 * dirtyMs_ * pxPerMs_) {
+    if (tooSlow && r.area() > 0.25 * dirtyMs_ * speed) {
       traceCoarse(r, changed);
       coarse_.push_back(r);
       anyCoarse = true;
     } else {
-      renderRect(r, changed);
+      renderRect(r, changed, true);
     }
   }
   if (anyCoarse || (dirtyAlone && !dirty.empty())) return;
@@ -267,20 +290,23 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     if (left <= 0) break;
     Rect& r = coarse_.front();
     // (in doubles first: flush()'s budget would overflow an int)
-    int rows = pxPerMs_ > 0 ? static_cast<int>(std::min(left * pxPerMs_ / std::max(1, r.w), 1e6)) : 8;
+    const double speed = dirtySpeed();
+    int rows = speed > 0 ? static_cast<int>(std::min(left * speed / std::max(1, r.w), 1e6)) : 8;
     rows = std::min(std::max(rows, 4), r.h);
-    renderRect(Rect{r.x, r.y, r.w, rows}, changed);
+    renderRect(Rect{r.x, r.y, r.w, rows}, changed, true);
     r.y += rows, r.h -= rows;
     if (r.h <= 0) coarse_.erase(coarse_.begin());
   }
   while (nextBand_ < h_) {
     const double left = budgetMs - msSince(t0);
     if (left <= 0) break;
-    // As many rows as fit in what is left of the budget at the measured speed.
-    int rows = pxPerMs_ > 0 ? static_cast<int>(std::min(left * pxPerMs_ / w_, 1e6)) : bandRows_;
-    rows = std::clamp(rows, 4, h_);
+    // As many rows as fit in what is left of the budget, at their measured costs.
+    const int rows = std::clamp(bandRows(left), 4, h_);
     const Rect band{0, nextBand_, w_, std::min(rows, h_ - nextBand_)};
-    renderRect(band, changed);
+    const double ms = renderRect(band, changed, false);
+    const float perRow = static_cast<float>(ms / band.h);
+    for (int y = band.y; y < band.y + band.h; ++y) rowMs_[static_cast<size_t>(y)] = perRow;
+    maxRowMs_ = std::max(maxRowMs_, static_cast<double>(perRow));
     ++counters_.bands;
     nextBand_ += band.h;
     if (nextBand_ >= h_ && model_->activeCount() == 0 && blanks_.size() < 8) blanks_[blankKey()] = frame_;

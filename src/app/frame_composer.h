@@ -78,7 +78,14 @@ class FrameComposer {
   void enlarge(int lw, int lh, const Rect& r);
   // r traced at the preview's scale and enlarged into the frame.
   void traceCoarse(const Rect& r, std::vector<Rect>& changed);
-  void renderRect(const Rect& r, std::vector<Rect>& changed);
+  // Traces r into the frame (ms); `onPiece`: a dirty rectangle's pixels, which set the speed the
+  // dirty budget is judged by.
+  double renderRect(const Rect& r, std::vector<Rect>& changed, bool onPiece);
+  // Pixels a millisecond where strokes land: as dirty rectangles measured it, else as the dearest
+  // row of a band did (0: nothing traced yet).
+  double dirtySpeed() const { return pxPerMs_ > 0 ? pxPerMs_ : maxRowMs_ > 0 ? w_ / maxRowMs_ : 0.0; }
+  // The rows of the next refinement band that fit in leftMs.
+  int bandRows(double leftMs) const;
   BlankKey blankKey() const;
 
   // One renderer per model shown recently (the attract piece and the bench): each keeps its model's
@@ -112,7 +119,9 @@ class FrameComposer {
   int nextBand_ = 0;      // rows [nextBand_, h) still show the preview
   int bandRows_ = 16;
   int previewScale_ = 3;
-  double pxPerMs_ = 0;    // measured tracing speed
+  double pxPerMs_ = 0;    // measured tracing speed of dirty rectangles
+  std::vector<float> rowMs_;  // per row of the frame: its cost the last time a band traced it (0: not yet)
+  double maxRowMs_ = 0;       // the dearest row measured
   double dirtyMs_ = 6.0;
   std::map<BlankKey, Image> blanks_;  // the bare sheet per workpiece, shading and camera
   Counters counters_;

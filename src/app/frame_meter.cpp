@@ -42,6 +42,8 @@ double LatencyMeter::percentileMs(double p) const {
 
 void FpsMeter::frame(double now) {
   ++frames_;
+  if (havePrev_) intervalSum_ += now - prev_, ++intervals_;
+  prev_ = now, havePrev_ = true;
   recent_.push_back(now);
   while (!recent_.empty() && now - recent_.front() > 5.0) recent_.pop_front();
 }

@@ -39,6 +39,13 @@ class LatencyMeter {
 class FpsMeter {
  public:
   void frame(double now);
+  // The mode was left: the next frame starts a new stretch (the time between is not a frame's).
+  void pause() { havePrev_ = false; }
+  // Frames a second between each stretch's first and last frames: the pace the screen moved at
+  // once it showed the mode (what starting up, or loading before the first frame, took is not in it).
+  double paceFps() const { return intervalSum_ > 0 ? static_cast<double>(intervals_) / intervalSum_ : 0.0; }
+  size_t intervals() const { return intervals_; }
+  double intervalSeconds() const { return intervalSum_; }
   // Adds time spent in the mode (called every loop iteration with the time since the last).
   void time(double seconds) { seconds_ += seconds; }
   double meanFps() const { return seconds_ > 0 ? frames_ / seconds_ : 0.0; }
@@ -49,6 +56,9 @@ class FpsMeter {
  private:
   size_t frames_ = 0;
   double seconds_ = 0;
+  bool havePrev_ = false;
+  double prev_ = 0, intervalSum_ = 0;
+  size_t intervals_ = 0;
   std::deque<double> recent_;
 };
 

@@ -374,6 +374,7 @@ bool KioskApp::step() {
   const Steady::time_point tStart = Steady::now();
   const double now = clock_();
   fps_[states_.mode()].time(std::max(0.0, now - lastStep_));
+  if (states_.mode() != fpsMode_) fps_[fpsMode_].pause(), fpsMode_ = states_.mode();
   // After a stall (a slow start, a long trace on a slow board) attract mode goes on where it was:
   // catching up would add the stall's operations at once and make the next step slow in turn.
   if (const double gap = now - lastStep_; gap > kMaxAttractGap && states_.mode() == KioskMode::Attract && !attract_->empty())
@@ -555,8 +556,8 @@ std::string KioskApp::statsReport() const {
   for (KioskMode m : {KioskMode::Attract, KioskMode::Visitor, KioskMode::StillThere, KioskMode::Staff}) {
     const FpsMeter& f = fps(m);
     if (f.seconds() <= 0 && f.frames() == 0) continue;
-    std::snprintf(buf, sizeof buf, "stats: %s: %zu frames in %.1f s = %.1f fps\n", kioskModeName(m), f.frames(), f.seconds(),
-                  f.meanFps());
+    std::snprintf(buf, sizeof buf, "stats: %s: %zu frames in %.1f s = %.1f fps; %.1f fps from its first frame on (%zu intervals in %.2f s)\n",
+                  kioskModeName(m), f.frames(), f.seconds(), f.meanFps(), f.paceFps(), f.intervals(), f.intervalSeconds());
     out += buf;
     if (const StepTimes& st = stepTimes_[static_cast<size_t>(m)]; st.steps > 0) {
       const double k = 1000.0 / static_cast<double>(st.steps);

@@ -248,6 +248,7 @@ class KioskApp {
   double lastPrune_ = 0;
   LatencyMeter latency_;
   std::map<KioskMode, FpsMeter> fps_;
+  KioskMode fpsMode_ = KioskMode::Attract;  // the mode the frames were last counted for
   size_t pictureUpdates_ = 0;
   StaffView staff_;
   std::vector<Rect> changed_;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -51,6 +52,7 @@ struct Row {
   double regionMs = 0, regionWorstMs = 0, regionPixels = 0;
   double punchPixels = 0, segmentPixels = 0;
   double opsPerEval = 0, stepsPerRay = 0, evalsPerRay = 0;
+  double baselineMs = 0;  // the baseline's frames interleaved with this piece's (median)
   double exactOpsPerEval = 0, exactWindowMs = 0;
   double naiveWindowMs = 0, fieldWindowMs = 0, naiveFullEstimateMs = 0;
   std::string window;
@@ -72,6 +74,9 @@ struct Baseline {
   double inside = 0;  // fraction of the pixels
   double leafTape = 0;
   std::size_t fullTape = 0;
+  std::shared_ptr<const VmProgram> program;
+  // One more frame of it (ms), or 0 without a program.
+  double frame(ThreadPool& pool) const { return program ? renderBaseline2d(*program, size, 1.1, pool).ms : 0.0; }
 };
 
 Baseline measureBaseline(ThreadPool& pool, bool quick) {
@@ -83,9 +88,10 @@ Baseline measureBaseline(ThreadPool& pool, bool quick) {
     std::fprintf(stderr, "emboss bench: baseline: %s\n", program.error().c_str());
     return b;
   }
+  b.program = std::make_shared<VmProgram>(std::move(*program));
   std::vector<double> ms;
   for (int i = 0; i < (quick ? 2 : 5); ++i) {
-    const Baseline2dResult r = renderBaseline2d(*program, b.size, 1.1, pool);
+    const Baseline2dResult r = renderBaseline2d(*b.program, b.size, 1.1, pool);
     ms.push_back(r.ms);
     b.intervalEvals = r.intervalEvals, b.pointEvals = r.pointEvals;
     b.leafTape = r.meanLeafTape, b.fullTape = r.fullTape;
@@ -113,7 +119,8 @@ double timeWindow(Renderer& r, const RenderOptions& o, const Rect& window, Image
   return ms;
 }
 
-Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s, ThreadPool& pool, int naiveWindow) {
+Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s, ThreadPool& pool, int naiveWindow,
+            const Baseline& baseline) {
   Row row;
   row.piece = name;
   row.ops = piece.operations.size();
@@ -148,11 +155,13 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
     row.candidatesMax = static_cast<double>(most);
   }
 
-  // Full frames, nothing reused between them.
+  // Full frames, nothing reused between them, each after a frame of the baseline: the ratio of
+  // their medians holds when the machine's speed drifts during the run (a shared host).
   Image image;
-  std::vector<double> wall, cpu;
+  std::vector<double> wall, cpu, base;
   RenderStats st;
   for (int i = 0; i < s.frames; ++i) {
+    base.push_back(baseline.frame(pool));
     RenderStats fs;
     const double c0 = cpuMs();
     t0 = Clock::now();
@@ -162,6 +171,7 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
     st = fs;
   }
   row.frameMs = median(wall);
+  row.baselineMs = median(base);
   row.frameCpuMs = mean(cpu);
   row.traceCpuMs = st.traceSeconds * 1000.0;
   row.shadeCpuMs = st.shadeSeconds * 1000.0;
@@ -237,13 +247,14 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
        std::to_string(b.clauses) + "-clause vm model at " + std::to_string(b.size) + "x" + std::to_string(b.size) + ": " +
        fmt("%.1f", b.ms) + " ms (median; " + std::to_string(b.intervalEvals) + " interval and " + std::to_string(b.pointEvals) +
        " point evaluations, tapes pruned from " + std::to_string(b.fullTape) + " to " + fmt("%.0f", b.leafTape) +
-       " nodes on average in the 8x8 cells, " + fmt("%.0f", 100.0 * b.inside) + "% inside). Target: a full frame <= 1.5x it.\n\n";
-  t += "| piece | ops | build ms | full frame ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | region update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | renderer MB |\n";
-  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       " nodes on average in the 8x8 cells, " + fmt("%.0f", 100.0 * b.inside) + "% inside). Target: a full frame <= 1.5x it. "
+       "A frame of it runs before each full frame of a piece: \"/ baseline\" is the ratio of the two medians.\n\n";
+  t += "| piece | ops | build ms | full frame ms | baseline ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | region update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | renderer MB |\n";
+  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
     const double ratio = r.fieldWindowMs > 0 ? r.naiveWindowMs / r.fieldWindowMs : 0.0;
     t += "| " + r.piece + " | " + std::to_string(r.ops) + " | " + fmt("%.0f", r.buildMs) + " | " + fmt("%.1f", r.frameMs) +
-         " | " + (b.ms > 0 ? fmt("%.2fx", r.frameMs / b.ms) : std::string("-")) + " | " + fmt("%.0f", r.frameCpuMs) + " (" + fmt("%.0f", r.traceCpuMs) + " + " + fmt("%.0f", r.shadeCpuMs) + ")" +
+         " | " + fmt("%.1f", r.baselineMs) + " | " + (r.baselineMs > 0 ? fmt("%.2fx", r.frameMs / r.baselineMs) : std::string("-")) + " | " + fmt("%.0f", r.frameCpuMs) + " (" + fmt("%.0f", r.traceCpuMs) + " + " + fmt("%.0f", r.shadeCpuMs) + ")" +
          " | " + fmt("%.2f", r.punchMs) + " (" + fmt("%.2f", r.punchWorstMs) + ")" + " | " + fmt("%.2f", r.segmentMs) + " (" +
          fmt("%.2f", r.segmentWorstMs) + ")" + " | " + fmt("%.1f", r.regionMs) + " (" + fmt("%.1f", r.regionWorstMs) + ")" +
          " | " + fmt("%.2f", r.undoMs) + " | " + fmt("%.2f", r.opsPerEval) + " | " +
@@ -282,7 +293,7 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
     if (!wanted("A4 plate")) break;
     const GeneratedPiece piece = generatePiece(n, 2001);
     std::fprintf(stderr, "emboss bench: A4 plate, %d operations...\n", n);
-    rows.push_back(measure("A4 plate", piece, s, pool, quick ? 16 : (n >= 3500 ? 24 : 48)));
+    rows.push_back(measure("A4 plate", piece, s, pool, quick ? 16 : (n >= 3500 ? 24 : 48), baseline));
   }
   // A large imported model: a medallion outline of thousands of vm clauses as the workpiece,
   // with a relief on it.
@@ -307,7 +318,7 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
     std::erase_if(piece.operations, [](const Operation& o) { return !o.isOffset(); });
     piece.workpiece = *wp;
     piece.camera = defaultCamera(b);
-    rows.push_back(measure("vm " + std::to_string(clauses) + " clauses", piece, s, pool, quick ? 8 : 16));
+    rows.push_back(measure("vm " + std::to_string(clauses) + " clauses", piece, s, pool, quick ? 8 : 16, baseline));
   }
   const std::string text = table(rows, s, cores, baseline);
   std::fputs(text.c_str(), stdout);

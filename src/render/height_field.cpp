@@ -118,11 +118,12 @@ void HeightField::addTo(const PreparedOp& op, const SampleRect& r) {
 }
 
 namespace {
-// Runs f over bands of rows of r, on the pool when it is worth it.
+// Runs f over bands of rows of r, on the pool when it is worth it (r holds minCount items or
+// more: samples, or leaves of 64 samples).
 template <class F>
-void forBands(const HeightField::SampleRect& r, ThreadPool* pool, int minRows, F f) {
+void forBands(const HeightField::SampleRect& r, ThreadPool* pool, int minRows, F f, long minCount = 4096) {
   const int rows = r.j1 - r.j0 + 1;
-  if (!pool || pool->size() < 2 || rows < 2 * minRows || r.count() < 4096) {
+  if (!pool || pool->size() < 2 || rows < 2 * minRows || r.count() < minCount) {
     f(r);
     return;
   }
@@ -267,8 +268,7 @@ void HeightField::finish(const SampleRect& rIn, ThreadPool* pool) {
   const int la0 = std::max(0, (t.i0 - 1) / kBlock), lb0 = std::max(0, (t.j0 - 1) / kBlock);
   const int la1 = std::min(l.w - 1, t.i1 / kBlock), lb1 = std::min(l.h - 1, t.j1 / kBlock);
   // Leaves by rows of leaves (disjoint nodes).
-  forBands(SampleRect{la0, lb0, la1, lb1}, (la1 - la0 + 1) * (lb1 - lb0 + 1) >= 64 ? pool : nullptr, 1,
-           [&](const SampleRect& b) { updateLeaves(b.i0, b.j0, b.i1, b.j1); });
+  forBands(SampleRect{la0, lb0, la1, lb1}, pool, 1, [&](const SampleRect& b) { updateLeaves(b.i0, b.j0, b.i1, b.j1); }, 64);
   updateLevels(la0, lb0, la1, lb1);
 }
 

@@ -28,5 +28,24 @@ TEST(LatencyMeter, KeepsFiguresForEveryUpdateButOnlyAWindowOfSamples) {
   EXPECT_EQ(m.count(), n);
 }
 
+TEST(FpsMeter, ThePaceCountsTheTimeBetweenFramesOfAStretchOnly) {
+  FpsMeter m;
+  m.time(0.5);  // starting up: no frame yet
+  for (int i = 0; i < 31; ++i) m.frame(0.5 + i / 30.0);
+  m.time(1.0);
+  m.pause();  // the mode is left for a minute
+  for (int i = 0; i < 16; ++i) m.frame(60.0 + i / 15.0);  // a slower stretch: 15 fps
+  m.time(1.0);
+  EXPECT_EQ(m.frames(), 47u);
+  EXPECT_NEAR(m.meanFps(), 47.0 / 2.5, 1e-9);
+  EXPECT_EQ(m.intervals(), 45u);
+  EXPECT_NEAR(m.intervalSeconds(), 2.0, 1e-9);
+  EXPECT_NEAR(m.paceFps(), 22.5, 1e-9);
+  // Without the pause the minute between would count.
+  FpsMeter n;
+  n.frame(0.0), n.frame(1.0 / 30.0), n.frame(60.0);
+  EXPECT_LT(n.paceFps(), 0.1);
+}
+
 }  // namespace
 }  // namespace emboss
