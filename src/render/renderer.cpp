@@ -204,7 +204,7 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
   };
   // Rays through image points outside `reach` miss every surface: the projection of the box that
   // holds them (projectBox() is conservative by a pixel).
-  const Rect reach = projectBox(field ? fieldClip_ : bounds_);
+  const Rect reach = options_.cullOutsideClip ? projectBox(field ? fieldClip_ : bounds_) : Rect{0, 0, w, h};
   // A miss's centre colour (the backdrop) is only needed on an edge: found there.
   const bool traced = pass(ring, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     const size_t i = at(x, y);

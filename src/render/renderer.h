@@ -46,6 +46,9 @@ struct RenderOptions {
   // Outline sheets: their program specialised per leaf of the column map (false: the whole
   // program everywhere; the same picture, slower; for comparison).
   bool specialisedOutline = true;
+  // Pixels outside the projection of the box that holds every surface are misses without a ray
+  // (false: every pixel traced; the same picture, slower; for tests).
+  bool cullOutsideClip = true;
 };
 
 // Two tracers share one contract (docs/rendering.md): a pixel's colour depends on nothing but the

@@ -171,6 +171,47 @@ TEST(DirtyRegion, SheetVmOutlineEqualsFullRender) { runCase({PieceShape::Plate, 
 TEST(DirtyRegion, SheetExactTracerEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Sheet, true, 72, 48, 12, 5}); }
 
 // Longer runs, more seeds and larger pictures.
+// Pixels outside the projection of the clip box are taken as misses without a ray: the picture
+// is the one every pixel's ray gives, seen from above, at a slant, close up (the plate beyond the
+// frame's edges), from low down and from beside the sheet, for both tracers.
+TEST(DirtyRegion, CullingOutsideTheClipBoxChangesNoPixel) {
+  const GeneratedPiece piece = generatePiece(50, 9, PieceOptions{PieceShape::Plate, 80.0, 60.0, 0.4, Deformation::Sheet, 2.0});
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  // With a set operation lifting the clip box above the sheet.
+  PieceRandom rng(3);
+  ASSERT_TRUE(model->add(randomSetOperation(rng, piece, 2.0)).ok());
+  const std::vector<CameraSpec> cameras = [] {
+    std::vector<CameraSpec> c(5);
+    c[0].eye = {0, 0, 150};
+    c[1].eye = {30, -90, 80};
+    c[2].eye = {5, -20, 35};   // close up: the plate fills the frame and more
+    c[3].eye = {0, -120, 6};   // low down, nearly along the sheet
+    c[4].eye = {70, 10, 1};    // beside the sheet, at its height
+    return c;
+  }();
+  ThreadPool pool(2);
+  for (bool exact : {false, true}) {
+    for (size_t k = 0; k < cameras.size(); ++k) {
+      Renderer culled(pool), all(pool);
+      const Camera cam(cameras[k], 96, 64);
+      for (Renderer* r : {&culled, &all}) {
+        RenderOptions o;
+        o.exact = exact;
+        o.cullOutsideClip = r == &culled;
+        r->setOptions(o);
+        r->setCamera(cam);
+        r->setShading(shading(*model));
+        r->sync(*model);
+      }
+      Image a, b;
+      culled.renderFull(a);
+      all.renderFull(b);
+      EXPECT_EQ(firstDifference(a, b), "") << "camera " << k << (exact ? " (exact tracer)" : "");
+    }
+  }
+}
+
 TEST(DirtyRegionSlow, ManySeeds) {
   for (unsigned seed = 10; seed < 16; ++seed) {
     runCase({seed % 2 ? PieceShape::Disc : PieceShape::Plate, Deformation::Sheet, false, 320, 200, 80, seed});
