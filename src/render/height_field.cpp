@@ -322,6 +322,11 @@ HeightField::Bound HeightField::bound(const Box2& b) const {
   int a1 = std::clamp(static_cast<int>((b.x1 - x0_) * invS_), 0, nx_ - 2) >> kShift;
   int b0 = std::clamp(static_cast<int>((b.y0 - y0_) * invS_), 0, ny_ - 2) >> kShift;
   int b1 = std::clamp(static_cast<int>((b.y1 - y0_) * invS_), 0, ny_ - 2) >> kShift;
+  if (a0 == a1 && b0 == b1) {  // one leaf (most of a walk's steps near the surface)
+    const Level& l = levels_[0];
+    const Node& n = l.nodes[static_cast<size_t>(b0) * l.w + a0];
+    return {n.lo, n.hi, n.gxlo, n.gxhi, n.gylo, n.gyhi};
+  }
   size_t k = 0;
   while ((a1 - a0 > 1 || b1 - b0 > 1) && k + 1 < levels_.size()) {
     a0 >>= 1, a1 >>= 1, b0 >>= 1, b1 >>= 1;
