@@ -2,7 +2,6 @@
 #include "render/height_field.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -316,12 +315,11 @@ void HeightField::valueAndGradient(double x, double y, double& v, double& gx, do
 }
 
 HeightField::Bound HeightField::bound(const Box2& b) const {
-  static_assert((kBlock & (kBlock - 1)) == 0, "leaf indices are cell indices shifted");
-  constexpr int kShift = std::countr_zero(static_cast<unsigned>(kBlock));
-  int a0 = std::clamp(static_cast<int>((b.x0 - x0_) * invS_), 0, nx_ - 2) >> kShift;
-  int a1 = std::clamp(static_cast<int>((b.x1 - x0_) * invS_), 0, nx_ - 2) >> kShift;
-  int b0 = std::clamp(static_cast<int>((b.y0 - y0_) * invS_), 0, ny_ - 2) >> kShift;
-  int b1 = std::clamp(static_cast<int>((b.y1 - y0_) * invS_), 0, ny_ - 2) >> kShift;
+  static_assert(kBlock == 8, "leaf indices are cell indices shifted by 3");
+  int a0 = std::clamp(static_cast<int>((b.x0 - x0_) * invS_), 0, nx_ - 2) >> 3;
+  int a1 = std::clamp(static_cast<int>((b.x1 - x0_) * invS_), 0, nx_ - 2) >> 3;
+  int b0 = std::clamp(static_cast<int>((b.y0 - y0_) * invS_), 0, ny_ - 2) >> 3;
+  int b1 = std::clamp(static_cast<int>((b.y1 - y0_) * invS_), 0, ny_ - 2) >> 3;
   if (a0 == a1 && b0 == b1) {  // one leaf (most of a walk's steps near the surface)
     const Level& l = levels_[0];
     const Node& n = l.nodes[static_cast<size_t>(b0) * l.w + a0];

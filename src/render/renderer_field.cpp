@@ -222,12 +222,6 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     const Box2 r{std::max(reach.x0, dom.x0), std::max(reach.y0, dom.y0), std::min(reach.x1, dom.x1), std::min(reach.y1, dom.y1)};
     const HeightField::Bound rb = field_.bound(r);
     rc.lf = lipschitzAlong(ray.dir, rb, workpieceKind_);
-    // Above the sheet's front face over the ray's reach f < 0: a ray from above starts where it
-    // goes under that face's highest point (the clip box also holds the set operations' tools).
-    if (frontThickness_ >= 0.0 && ray.dir.z < 0.0 && reachInDomain) {
-      const double top = rb.hi + frontThickness_ + 1e-6;
-      rc.topQ = static_cast<long>(std::floor((top - ray.origin.z) / ray.dir.z / h8)) - 1;
-    }
     const long qa = static_cast<long>(std::ceil(tda / h8)) - 2, qb = static_cast<long>(std::floor(tdb / h8)) + 2;
     if (qa >= q0) rc.skipLo[rc.skips] = q0, rc.skipHi[rc.skips] = qa, ++rc.skips;
     if (qb <= q1) rc.skipLo[rc.skips] = qb, rc.skipHi[rc.skips] = q1, ++rc.skips;
@@ -241,6 +235,15 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
         if (!clipRay(ray, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}, ta, tb)) continue;
         rc.addWindow(static_cast<long>(std::floor(ta / h8)) - 1, static_cast<long>(std::ceil(tb / h8)) + 1, q1);
       }
+    }
+    // Above the sheet's front face over the ray's reach f < 0 (outside the windows): a ray from
+    // above skips to where it goes under that face's highest point (the clip box also holds the
+    // set operations' tools), or to the first window.
+    if (frontThickness_ >= 0.0 && ray.dir.z < 0.0 && reachInDomain) {
+      const double top = rb.hi + frontThickness_ + 1e-6;
+      const long topQ = static_cast<long>(std::floor((top - ray.origin.z) / ray.dir.z / h8)) - 1;
+      const long e = std::min({topQ, q1, rc.nextWindow(q0, q1 + 1) - 1});
+      if (e >= q0) rc.skipLo[rc.skips] = q0, rc.skipHi[rc.skips] = e, ++rc.skips;
     }
     if (workpieceKind_ == 4) {
       // Outline sheets: follow the ray over the column blocks (a 2D DDA); stretches over outside
@@ -344,19 +347,9 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
         prevQ = q0 - 2;
         continue;
       }
-      // Outside the windows f = W(x, y, z - D). Above the sheet's front face over the field's
-      // leaves f < 0: skipped (not into a window unseen).
-      if (!known && q <= rc.topQ) {
-        const long e = std::min({rc.topQ, q1, rc.nextWindow(q, q1 + 1) - 1});
-        if (e >= q) {
-          q = e + 1;
-          prevQ = q0 - 2;
-          continue;
-        }
-      }
-      // Then a Lipschitz walk along the grid. From q, every point closer than -f(q) / lf is proven
-      // outside; the walk goes to the first one that is not (never into a window unseen). The
-      // first point found with f >= 0 is the canonical one.
+      // Outside the windows f = W(x, y, z - D): a Lipschitz walk along the grid. From q, every
+      // point closer than -f(q) / lf is proven outside; the walk goes to the first one that is
+      // not (never into a window unseen). The first point found with f >= 0 is the canonical one.
       if (!known) fa = value(q), known = true;
       if (fa.f >= 0.0) {
         if (q == q0) {  // the camera is inside the piece

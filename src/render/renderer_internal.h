@@ -110,9 +110,6 @@ struct Renderer::RayContext {
   // windows |df/dt| <= lf; inside them (and everywhere without it) intervals bound f.
   bool lipschitz = false;
   double lf = 0.0;
-  // The last grid point above the sheet's front face over the whole ray's reach (f < 0 up to it
-  // outside the windows), or less than the first.
-  long topQ = std::numeric_limits<long>::min();
   static constexpr int kMaxWindows = 8;
   long winLo[kMaxWindows], winHi[kMaxWindows];  // ascending, disjoint, in grid units
   int windows = 0;
@@ -121,7 +118,8 @@ struct Renderer::RayContext {
       if (winLo[i] <= qb && qa <= winHi[i]) return true;
     return false;
   }
-  // Stretches proven outside (outline sheets: the ray over columns where W < 0).
+  // Stretches proven outside (beyond the field's domain; above the sheet's front face; outline
+  // sheets: the ray over columns where W < 0).
   long skipLo[kMaxWindows], skipHi[kMaxWindows];
   int skips = 0;
   // The last point of the skip stretch holding q, or q - 1.

@@ -30,8 +30,8 @@ struct Steps {
       }
       first[static_cast<size_t>(k - 1)] = std::bit_cast<double>(lo);
     }
-    // Where to start looking: for each bucket of kBucketBits-wide slices of the doubles between
-    // 2^kLowExponent and 2^kHighExponent, the number of steps at or below its lowest value.
+    // Where to start looking: for each bucket (below), the number of steps at or below its lowest
+    // value.
     for (size_t b = 0; b < start.size(); ++b) {
       const double x = std::bit_cast<double>((kLowBits + b) << kBucketShift);
       start[b] = static_cast<std::uint8_t>(std::upper_bound(first.begin(), first.end(), x) - first.begin());
@@ -63,20 +63,19 @@ std::array<std::uint8_t, 3> toSrgb8Fast(const glm::dvec3& linear) {
     }
     // The first step above x: from its bucket's count (every bucket's steps scanned), else by
     // binary search (x below 2^-16 or above 2).
-    const std::uint64_t key = std::bit_cast<std::uint64_t>(x) >> Steps::kBucketShift;
-    const double* it;
+    const std::uint64_t bits = std::bit_cast<std::uint64_t>(x), key = bits >> Steps::kBucketShift;
+    const double *begin = s.first.data(), *end = begin + s.first.size(), *it;
     if (key >= Steps::kLowBits && key < Steps::kHighBits) {
-      it = s.first.data() + s.start[key - Steps::kLowBits];
-      while (it != s.first.data() + s.first.size() && *it <= x) ++it;
+      it = begin + s.start[key - Steps::kLowBits];
+      while (it != end && *it <= x) ++it;
     } else {
-      it = std::upper_bound(s.first.data(), s.first.data() + s.first.size(), x);
+      it = std::upper_bound(begin, end, x);
     }
     // Within a few thousand ulps of a step toSrgb8()'s rounding is not monotone: ask it there.
-    const std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
-    if ((it != s.first.data() + s.first.size() && std::bit_cast<std::uint64_t>(*it) - bits <= kNearSteps) ||
-        (it != s.first.data() && bits - std::bit_cast<std::uint64_t>(*(it - 1)) <= kNearSteps))
+    if ((it != end && std::bit_cast<std::uint64_t>(*it) - bits <= kNearSteps) ||
+        (it != begin && bits - std::bit_cast<std::uint64_t>(*(it - 1)) <= kNearSteps))
       return toSrgb8(linear);
-    out[static_cast<size_t>(i)] = static_cast<std::uint8_t>(it - s.first.data());
+    out[static_cast<size_t>(i)] = static_cast<std::uint8_t>(it - begin);
   }
   return out;
 }
