@@ -215,6 +215,9 @@ class VmWorkpiece : public Workpiece {
   double value(const VmProgram& tape, const P3<double>& p) const;
   Grad value(const VmProgram& tape, const P3<Grad>& p) const;
   Interval value(const VmProgram& tape, const P3<Interval>& p) const;
+  // An outline sheet's (isPlate()) O over a box of the plane, in mm, with `tape` as above: the
+  // same operations as value(), whose W is min(O, d - |z|).
+  Interval outline(const VmProgram& tape, const Interval& x, const Interval& y) const;
   // Found at creation by vmModelBounds: outside it f < 0 (proven by intervals up to rounding, or
   // sampled where intervals are too loose).
   Box3 bounds() const override { return bounds_; }

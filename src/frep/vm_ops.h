@@ -397,6 +397,12 @@ struct PruneScratch {
 // and what no longer reaches the last node dropped, into out (t's order kept).
 void pruneNodes(const std::vector<VmProgram::Node>& t, const std::vector<std::uint8_t>& choice, PruneScratch& s,
                 std::vector<VmProgram::Node>& out);
+// t into out with every node computed from constants alone by an operation that gives the same
+// bits in every arithmetic (add, sub, mul, neg, abs, square, min, max; a finite result) made a
+// constant, and every x - (+0) marked in choice as standing for x: what decided mins and maxes
+// leave behind (a smooth union whose blend is decided computes m - square(0) * c).
+void foldConstants(const std::vector<VmProgram::Node>& t, std::vector<std::uint8_t>& choice,
+                   std::vector<VmProgram::Node>& out);
 
 // ---- text shared by the messages and writers
 

@@ -64,6 +64,10 @@ Interval VmWorkpiece::value(const P3<Interval>& p) const { return valueT(program
 double VmWorkpiece::value(const VmProgram& tape, const P3<double>& p) const { return valueT(tape, p); }
 Grad VmWorkpiece::value(const VmProgram& tape, const P3<Grad>& p) const { return valueT(tape, p); }
 Interval VmWorkpiece::value(const VmProgram& tape, const P3<Interval>& p) const { return valueT(tape, p); }
+Interval VmWorkpiece::outline(const VmProgram& tape, const Interval& x, const Interval& y) const {
+  const Interval s(invScale_);
+  return -tape.eval(x * s, y * s, Interval(0.0) * s) * Interval(scale_);
+}
 
 nlohmann::json VmWorkpiece::toJson() const {
   return nlohmann::json{{"type", "vm"}, {"file", file_}, {"scale", scale_}, {"d", d_}};

@@ -196,9 +196,9 @@ class Renderer {
   // Outline sheets, W = min(O(x, y), d - |z|), over blocks of 2 x 2 field cells: bounds of
   // min(O, d) per column. Where the slab d - |z'| <= lo, W is the slab bit for bit; where hi < 0,
   // W < 0 at every z.
-  // The outline O is evaluated with its program specialised to the leaf of 8 x 8 blocks a point
-  // or box lies in, or to the region of 4 x 4 leaves (VmProgram::specialised): the same values
-  // from a much shorter tape.
+  // The outline O is evaluated with its program specialised to the block a point or box lies in
+  // (where the outline is near), to the leaf of 8 x 8 blocks, or to the region of 4 x 4 leaves
+  // (VmProgram::specialised): the same values from a much shorter tape.
   struct ColumnMap {
     static constexpr int kLeaf = 8;    // blocks a leaf is wide
     static constexpr int kRegion = 4;  // leaves a region is wide
@@ -208,6 +208,10 @@ class Renderer {
     double halfThickness = 0;
     const VmWorkpiece* vm = nullptr;
     std::vector<VmProgram> leafTape, regionTape;
+    // The blocks the outline crosses or comes near (neither bound decides W) have their own tape,
+    // specialised from their leaf's: blockTape[blockTapeOf[k]] for block k, -1 for none.
+    std::vector<VmProgram> blockTape;
+    std::vector<std::int32_t> blockTapeOf;
     struct Column {
       float lo, hi;
     };

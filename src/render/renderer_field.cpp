@@ -94,6 +94,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   bool columnsOk = true;
   double outsideUpper = -std::numeric_limits<double>::infinity();
   bool anyInside = false, anyOutside = false;
+  float insideLo = std::numeric_limits<float>::infinity();  // the inside blocks' lowest bound of min(O, d)
   if (workpieceKind_ == 4) {
     const ColumnMap& c = columns_;
     const int i0 = static_cast<int>(std::floor((xy.x0 - c.x0) * c.inv)), i1 = static_cast<int>(std::floor((xy.x1 - c.x0) * c.inv));
@@ -107,7 +108,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
           if (b.hi < 0.0f)
             anyOutside = true, outsideUpper = std::max(outsideUpper, static_cast<double>(b.hi));
           else
-            anyInside = true;
+            anyInside = true, insideLo = std::min(insideLo, b.lo);
         }
     }
   }
@@ -118,6 +119,8 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     setOpHere = s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi;
   }
   if (workpieceKind_ == 4 && columnsOk && !anyInside && !setOpHere) return true;  // all outside
+  // Every block under the box inside: W is the slab wherever the slab is below their bounds.
+  const bool slabIsW = workpieceKind_ == 4 && columnsOk && !anyOutside;
   if (workpieceKind_ == 4 && anyOutside && setOpHere) columnsOk = false;
   bool slabBound = rc.lipschitz && field_.containsBox(xy);
   if (workpieceKind_ == 4 && columnsOk && slabBound) {
@@ -143,7 +146,11 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     } else {
       d = exactDisplacement(box, grid_.in(xy, scratch), st);
     }
-    v = workpieceValue(P3<Interval>{box.x, box.y, box.z - d});
+    const Interval slab = slabIsW ? Interval(columns_.halfThickness) - abs(box.z - d) : Interval();
+    if (slabIsW && slab.hi <= insideLo)
+      v = slab;  // O >= the blocks' bounds >= the slab's top: W = min(O, slab) is the slab
+    else
+      v = workpieceValue(P3<Interval>{box.x, box.y, box.z - d});
   }
   for (int k = 0; k < nSet; ++k) {
     const SetOp& s = rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k];

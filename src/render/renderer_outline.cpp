@@ -21,6 +21,7 @@ Renderer::ColumnMap::Column Renderer::ColumnMap::at(double x, double y) const {
 const VmProgram& Renderer::ColumnMap::tapeAt(double x, double y) const {
   const int i = static_cast<int>(std::floor((x - x0) * inv)), j = static_cast<int>(std::floor((y - y0) * inv));
   if (i < 0 || j < 0 || i >= nx || j >= ny) return vm->program();
+  if (const std::int32_t b = blockTapeOf[static_cast<size_t>(j) * nx + i]; b >= 0) return blockTape[static_cast<size_t>(b)];
   return leafTape[static_cast<size_t>(j / kLeaf) * leavesX + i / kLeaf];
 }
 
@@ -28,6 +29,8 @@ const VmProgram& Renderer::ColumnMap::tapeOver(const Box2& xy) const {
   const int i0 = static_cast<int>(std::floor((xy.x0 - x0) * inv)), i1 = static_cast<int>(std::floor((xy.x1 - x0) * inv));
   const int j0 = static_cast<int>(std::floor((xy.y0 - y0) * inv)), j1 = static_cast<int>(std::floor((xy.y1 - y0) * inv));
   if (i0 < 0 || j0 < 0 || i1 >= nx || j1 >= ny) return vm->program();
+  if (i0 == i1 && j0 == j1)
+    if (const std::int32_t b = blockTapeOf[static_cast<size_t>(j0) * nx + i0]; b >= 0) return blockTape[static_cast<size_t>(b)];
   if (i0 / kLeaf == i1 / kLeaf && j0 / kLeaf == j1 / kLeaf)
     return leafTape[static_cast<size_t>(j0 / kLeaf) * leavesX + i0 / kLeaf];
   constexpr int r = kLeaf * kRegion;
@@ -36,8 +39,8 @@ const VmProgram& Renderer::ColumnMap::tapeOver(const Box2& xy) const {
 }
 
 size_t Renderer::ColumnMap::memoryBytes() const {
-  size_t n = (lo.size() + hi.size()) * sizeof(float);
-  for (const auto* tapes : {&leafTape, &regionTape})
+  size_t n = (lo.size() + hi.size()) * sizeof(float) + blockTapeOf.size() * sizeof(std::int32_t);
+  for (const auto* tapes : {&leafTape, &regionTape, &blockTape})
     for (const VmProgram& t : *tapes) n += sizeof t + t.memoryBytes();
   return n;
 }
@@ -87,24 +90,27 @@ void Renderer::buildColumns() {
   // into the next block, so each is specialised over its box grown by a hair.
   const double hair = 1e-6 * c.size, toModel = 1.0 / w.scale();
   auto specialise = [&](const VmProgram& from, int i0, int j0, int i1, int j1) {
-    VmProgram t =
-        from.specialised(Interval((c.x0 + i0 * c.size - hair) * toModel, (c.x0 + i1 * c.size + hair) * toModel),
-                         Interval((c.y0 + j0 * c.size - hair) * toModel, (c.y0 + j1 * c.size + hair) * toModel),
-                         Interval(0.0));
-    t.dropNodes();
-    return t;
+    return from.specialised(Interval((c.x0 + i0 * c.size - hair) * toModel, (c.x0 + i1 * c.size + hair) * toModel),
+                            Interval((c.y0 + j0 * c.size - hair) * toModel, (c.y0 + j1 * c.size + hair) * toModel),
+                            Interval(0.0));
   };
+  // O over the block, then min(O, d) (what W is at z' = 0) with a margin for the rounding.
   auto bounds = [&](const VmProgram& tape, int i0, int j0, int i1, int j1) {
-    const Interval v = w.value(tape, P3<Interval>{Interval(c.x0 + i0 * c.size, c.x0 + i1 * c.size),
-                                                  Interval(c.y0 + j0 * c.size, c.y0 + j1 * c.size), Interval(0.0)});
-    const double m = 1e-9 * (1.0 + std::abs(v.lo) + std::abs(v.hi));
+    const Interval o = w.outline(tape, Interval(c.x0 + i0 * c.size, c.x0 + i1 * c.size),
+                                 Interval(c.y0 + j0 * c.size, c.y0 + j1 * c.size));
+    const Interval v = min(o, Interval(d));
+    const double m = 1e-9 * (1.0 + std::abs(o.lo) + std::abs(v.hi));
     float lo = std::nextafter(static_cast<float>(v.lo - m), -inf);
     float hi = std::nextafter(static_cast<float>(v.hi + m), inf);
     if (hi < 0.0f) lo = -inf;                          // outside: the slab never applies
-    if (v.lo >= d + m) lo = static_cast<float>(2 * d);  // inside: the slab always applies
+    if (o.lo >= d + m) lo = static_cast<float>(2 * d);  // inside: the slab always applies
     return ColumnMap::Column{lo, hi};
   };
   auto decided = [&](const ColumnMap::Column& b) { return b.hi < 0.0f || b.lo >= static_cast<float>(d); };
+  c.blockTapeOf.assign(c.lo.size(), -1);
+  c.blockTape.clear();
+  // Each region's block tapes, gathered after: (block, tape).
+  std::vector<std::vector<std::pair<size_t, VmProgram>>> regionBlocks(static_cast<size_t>(c.regionsX) * c.regionsY);
   const Rect regions{0, 0, c.regionsX, c.regionsY};
   pool_.parallelFor2D(regions, 1, [&](const Rect& t) {
     const int ra = t.x, rb = t.y;
@@ -127,11 +133,22 @@ void Renderer::buildColumns() {
             const ColumnMap::Column col = decided(b) ? b : bounds(leaf, i, j, i + 1, j + 1);
             const size_t k = static_cast<size_t>(j) * c.nx + i;
             c.lo[k] = col.lo, c.hi[k] = col.hi;
+            if (!decided(col)) {
+              VmProgram block = specialise(leaf, i, j, i + 1, j + 1);
+              block.dropNodes();
+              regionBlocks[static_cast<size_t>(rb) * c.regionsX + ra].emplace_back(k, std::move(block));
+            }
           }
+        leaf.dropNodes();
       }
     region.dropNodes();
     c.regionTape[static_cast<size_t>(rb) * c.regionsX + ra] = std::move(region);
   });
+  for (auto& blocks : regionBlocks)
+    for (auto& [k, tape] : blocks) {
+      c.blockTapeOf[k] = static_cast<std::int32_t>(c.blockTape.size());
+      c.blockTape.push_back(std::move(tape));
+    }
 }
 
 }  // namespace emboss

@@ -91,6 +91,36 @@ TEST(VmPrune, AMinDecidedOverTheBoxKeepsOnlyItsWinner) {
   EXPECT_EQ(q->specialised(Interval(0, 1), Interval(0.0), Interval(0.0)).size(), q->size());
 }
 
+TEST(VmPrune, ADecidedSmoothUnionLeavesNoArithmeticOnZeros) {
+  // min(a, b) - max(k - |a - b|, 0)^2 / (4k) with a = x, b = y + 10 over [0, 1]^2: the min and
+  // the max are decided, what is left computes m - 0^2 * c, folded to a alone.
+  auto p = VmProgram::parse("a var-x\nv var-y\nt const 10\nb add v t\nd sub a b\nad abs d\nk const 0.05\n"
+                            "kd sub k ad\nz const 0\nh max kd z\nh2 square h\nc const 5\ncorr mul h2 c\n"
+                            "m min a b\nr sub m corr\n",
+                            "t");
+  ASSERT_TRUE(p.ok()) << p.error();
+  const VmProgram t = p->specialised(Interval(0, 1), Interval(0, 1), Interval(0.0));
+  EXPECT_EQ(t.size(), 1u);
+  for (double x : {0.0, 0.3, 1.0, -0.0})
+    for (double y : {0.0, 0.7})
+      EXPECT_TRUE(sameBits(t.eval(x, y, 0.0), p->eval(x, y, 0.0))) << x << " " << y;
+  // Where the blend acts nothing folds but the constants' own arithmetic.
+  const VmProgram u = p->specialised(Interval(9.99, 10.01), Interval(0, 0.001), Interval(0.0));
+  EXPECT_GT(u.size(), 10u);
+  // x - (-0) is not x for x = -0 (it is +0): it stays.
+  auto q = VmProgram::parse("a var-x\nz const -0\nr sub a z\n", "t");
+  ASSERT_TRUE(q.ok()) << q.error();
+  EXPECT_EQ(q->specialised(Interval(-1, 1), Interval(0.0), Interval(0.0)).size(), 3u);
+  // An operation whose interval on a point may differ from the double's is not folded: sin(min(x,
+  // 5)) over x >= 10 is sin(5), computed as the whole program computes it.
+  auto s = VmProgram::parse("a var-x\nc const 5\nm min a c\nsc sin m\nr add a sc\n", "t");
+  ASSERT_TRUE(s.ok()) << s.error();
+  const VmProgram st = s->specialised(Interval(10, 11), Interval(0.0), Interval(0.0));
+  EXPECT_EQ(st.size(), 4u);
+  EXPECT_TRUE(sameBits(st.eval(Interval(10.5), Interval(0.0), Interval(0.0)).lo,
+                       s->eval(Interval(10.5), Interval(0.0), Interval(0.0)).lo));
+}
+
 TEST(VmPrune, NonFiniteBoundsDecideNothing) {
   // 1/x over a box holding 0: the interval is the whole line, the min stays.
   auto p = VmProgram::parse("a var-x\nb recip a\nc const 5\nd min b c\n", "t");
