@@ -212,6 +212,9 @@ class Renderer {
     // specialised from their leaf's: blockTape[blockTapeOf[k]] for block k, -1 for none.
     std::vector<VmProgram> blockTape;
     std::vector<std::int32_t> blockTapeOf;
+    std::vector<std::uint8_t> leafOutside;  // per leaf: 1 when a block of it is outside (hi < 0)
+    // Whether some block under the box (mm) is outside, or the box leaves the map.
+    bool anyOutside(const Box2& xy) const;
     struct Column {
       float lo, hi;
     };

@@ -252,9 +252,9 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
       const long e = std::min({topQ, q1, rc.nextWindow(q0, q1 + 1) - 1});
       if (e >= q0) rc.skipLo[rc.skips] = q0, rc.skipHi[rc.skips] = e, ++rc.skips;
     }
-    if (workpieceKind_ == 4) {
+    if (workpieceKind_ == 4 && columns_.anyOutside(reach)) {
       // Outline sheets: follow the ray over the column blocks (a 2D DDA); stretches over outside
-      // columns are skipped.
+      // columns are skipped (where the ray's reach has any: most rays have none).
       const ColumnMap& c = columns_;
       const double tStart = static_cast<double>(q0) * h8, tEnd = static_cast<double>(q1) * h8;
       const glm::dvec3 p0 = ray.origin + tStart * ray.dir;

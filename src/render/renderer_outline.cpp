@@ -38,8 +38,18 @@ const VmProgram& Renderer::ColumnMap::tapeOver(const Box2& xy) const {
   return vm->program();
 }
 
+bool Renderer::ColumnMap::anyOutside(const Box2& xy) const {
+  const int i0 = static_cast<int>(std::floor((xy.x0 - x0) * inv)), i1 = static_cast<int>(std::floor((xy.x1 - x0) * inv));
+  const int j0 = static_cast<int>(std::floor((xy.y0 - y0) * inv)), j1 = static_cast<int>(std::floor((xy.y1 - y0) * inv));
+  if (i0 < 0 || j0 < 0 || i1 >= nx || j1 >= ny) return true;
+  for (int lj = j0 / kLeaf; lj <= j1 / kLeaf; ++lj)
+    for (int li = i0 / kLeaf; li <= i1 / kLeaf; ++li)
+      if (leafOutside[static_cast<size_t>(lj) * leavesX + li]) return true;
+  return false;
+}
+
 size_t Renderer::ColumnMap::memoryBytes() const {
-  size_t n = (lo.size() + hi.size()) * sizeof(float) + blockTapeOf.size() * sizeof(std::int32_t);
+  size_t n = (lo.size() + hi.size()) * sizeof(float) + blockTapeOf.size() * sizeof(std::int32_t) + leafOutside.size();
   for (const auto* tapes : {&leafTape, &regionTape, &blockTape})
     for (const VmProgram& t : *tapes) n += sizeof t + t.memoryBytes();
   return n;
@@ -108,6 +118,7 @@ void Renderer::buildColumns() {
   };
   auto decided = [&](const ColumnMap::Column& b) { return b.hi < 0.0f || b.lo >= static_cast<float>(d); };
   c.blockTapeOf.assign(c.lo.size(), -1);
+  c.leafOutside.assign(c.leafTape.size(), 0);
   c.blockTape.clear();
   // Each region's block tapes, gathered after: (block, tape).
   std::vector<std::vector<std::pair<size_t, VmProgram>>> regionBlocks(static_cast<size_t>(c.regionsX) * c.regionsY);
@@ -133,6 +144,7 @@ void Renderer::buildColumns() {
             const ColumnMap::Column col = decided(b) ? b : bounds(leaf, i, j, i + 1, j + 1);
             const size_t k = static_cast<size_t>(j) * c.nx + i;
             c.lo[k] = col.lo, c.hi[k] = col.hi;
+            if (col.hi < 0.0f) c.leafOutside[static_cast<size_t>(lb) * c.leavesX + la] = 1;
             if (!decided(col)) {
               VmProgram block = specialise(leaf, i, j, i + 1, j + 1);
               block.dropNodes();
