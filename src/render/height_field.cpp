@@ -7,6 +7,8 @@
 #include <limits>
 #include <vector>
 
+#include "render/leaf_bounds.h"
+
 namespace emboss {
 
 namespace {
@@ -166,57 +168,25 @@ void HeightField::updateTwist(const SampleRect& r) {
 void HeightField::updateLeaves(int la0, int lb0, int la1, int lb1) {
   Level& l = levels_[0];
   const double s = s_;
-  constexpr int kSide = kBlock + 1;  // a leaf's samples each way
+  LeafSamples net;
   for (int lb = lb0; lb <= lb1; ++lb)
     for (int la = la0; la <= la1; ++la) {
       const int i0 = la * kBlock, i1 = std::min(i0 + kBlock, nx_ - 1);
       const int j0 = lb * kBlock, j1 = std::min(j0 + kBlock, ny_ - 1);
       // Per sample, once (not once per patch it is a corner of): its value, a third of its scaled
       // slopes and a ninth of its scaled twist. A corner's signs only negate them (exactly), so the
-      // nets below are those of the patches' own arithmetic, bit for bit.
-      double sd[kSide][kSide], sx[kSide][kSide], sy[kSide][kSide], st[kSide][kSide];
+      // nets leafNetBounds works out are those of the patches' own arithmetic, bit for bit.
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
           const Sample& k = at(i, j);
           const int a = i - i0, c = j - j0;
-          sd[a][c] = k.d;
-          sx[a][c] = s * k.dx / 3.0;
-          sy[a][c] = s * k.dy / 3.0;
-          st[a][c] = s * s * k.dxy / 9.0;
+          net.d[c][a] = k.d;
+          net.x[c][a] = s * k.dx / 3.0;
+          net.y[c][a] = s * k.dy / 3.0;
+          net.t[c][a] = s * s * k.dxy / 9.0;
         }
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      double uLo = lo, uHi = hi, vLo = lo, vHi = hi;
-      for (int j = j0; j < j1; ++j)
-        for (int i = i0; i < i1; ++i) {
-          // The patch's Bezier net b[u][v]: each corner's value, plus or minus a third of its
-          // scaled slopes, and a ninth of its scaled twist.
-          double b[4][4];
-          for (int cu = 0; cu < 2; ++cu)
-            for (int cv = 0; cv < 2; ++cv) {
-              const int a = i - i0 + cu, c = j - j0 + cv;
-              const double d = sd[a][c];
-              const double x = cu ? -sx[a][c] : sx[a][c], y = cv ? -sy[a][c] : sy[a][c];
-              const double t = cu != cv ? -st[a][c] : st[a][c];
-              const int u = cu * 3, v = cv * 3, un = cu ? 2 : 1, vn = cv ? 2 : 1;
-              b[u][v] = d;
-              b[un][v] = d + x;
-              b[u][vn] = d + y;
-              b[un][vn] = d + x + y + t;
-            }
-          for (int u = 0; u < 4; ++u)
-            for (int v = 0; v < 4; ++v) {
-              lo = std::min(lo, b[u][v]), hi = std::max(hi, b[u][v]);
-              if (u < 3) {
-                const double du = 3.0 * (b[u + 1][v] - b[u][v]);
-                uLo = std::min(uLo, du), uHi = std::max(uHi, du);
-              }
-              if (v < 3) {
-                const double dv = 3.0 * (b[u][v + 1] - b[u][v]);
-                vLo = std::min(vLo, dv), vHi = std::max(vHi, dv);
-              }
-            }
-        }
-      l.nodes[static_cast<size_t>(lb) * l.w + la] = leafNode(lo, hi, uLo, uHi, vLo, vHi);
+      const LeafNetBounds b = leafNetBounds(net, i1 - i0, j1 - j0);
+      l.nodes[static_cast<size_t>(lb) * l.w + la] = leafNode(b.lo, b.hi, b.uLo, b.uHi, b.vLo, b.vHi);
     }
 }
 

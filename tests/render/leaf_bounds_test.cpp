@@ -1,0 +1,88 @@
+// leafNetBounds: a pyramid leaf's bounds a row of patches at a time in SIMD lanes are the ones the
+// patches' Bezier nets give worked out one patch at a time, bit for bit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include "render/leaf_bounds.h"
+
+namespace emboss {
+namespace {
+
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Patch by patch, as the nets are defined: each corner's value, plus or minus a third of its
+// scaled slopes, and a ninth of its scaled twist.
+LeafNetBounds reference(const LeafSamples& s, int nu, int nv) {
+  const double inf = std::numeric_limits<double>::infinity();
+  LeafNetBounds r{inf, -inf, inf, -inf, inf, -inf};
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      double b[4][4];
+      for (int cu = 0; cu < 2; ++cu)
+        for (int cv = 0; cv < 2; ++cv) {
+          const int a = i + cu, c = j + cv;
+          const double d = s.d[c][a];
+          const double x = cu ? -s.x[c][a] : s.x[c][a], y = cv ? -s.y[c][a] : s.y[c][a];
+          const double t = cu != cv ? -s.t[c][a] : s.t[c][a];
+          const int u = cu * 3, v = cv * 3, un = cu ? 2 : 1, vn = cv ? 2 : 1;
+          b[u][v] = d;
+          b[un][v] = d + x;
+          b[u][vn] = d + y;
+          b[un][vn] = d + x + y + t;
+        }
+      for (int u = 0; u < 4; ++u)
+        for (int v = 0; v < 4; ++v) {
+          r.lo = std::min(r.lo, b[u][v]), r.hi = std::max(r.hi, b[u][v]);
+          if (u < 3) {
+            const double du = 3.0 * (b[u + 1][v] - b[u][v]);
+            r.uLo = std::min(r.uLo, du), r.uHi = std::max(r.uHi, du);
+          }
+          if (v < 3) {
+            const double dv = 3.0 * (b[u][v + 1] - b[u][v]);
+            r.vLo = std::min(r.vLo, dv), r.vHi = std::max(r.vHi, dv);
+          }
+        }
+    }
+  return r;
+}
+
+TEST(LeafBounds, EqualThePatchByPatchNetsBitForBit) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int checked = 0;
+  for (int round = 0; round < 40; ++round)
+    for (int nu = 1; nu <= 8; ++nu)
+      for (int nv = 1; nv <= 8; ++nv) {
+        LeafSamples s;
+        // Unused entries hold values that would show if they were read.
+        for (auto* a : {&s.d, &s.x, &s.y, &s.t})
+          for (auto& row : *a) std::fill(std::begin(row), std::end(row), round % 2 ? 1e300 : -1e300);
+        // Values of a relief in mm, scaled thirds of slopes, ninths of twists; some rounds flat
+        // stretches and equal values (ties between lanes), one with an extreme far from the rest.
+        for (int c = 0; c <= nv; ++c)
+          for (int a = 0; a <= nu; ++a) {
+            const bool flat = round % 5 == 0 && a < 4;
+            s.d[c][a] = flat ? 0.25 : 2.0 * u(rng);
+            s.x[c][a] = flat ? 0.0 : 0.05 * u(rng);
+            s.y[c][a] = flat ? -0.0 : 0.05 * u(rng);
+            s.t[c][a] = flat ? 0.0 : 0.01 * u(rng);
+          }
+        if (round % 7 == 3) s.d[nv / 2][nu / 2] = 40.0;
+        const LeafNetBounds got = leafNetBounds(s, nu, nv), want = reference(s, nu, nv);
+        EXPECT_TRUE(sameBits(got.lo, want.lo) || (got.lo == 0 && want.lo == 0)) << nu << "x" << nv << " " << got.lo << " " << want.lo;
+        EXPECT_TRUE(sameBits(got.hi, want.hi) || (got.hi == 0 && want.hi == 0)) << nu << "x" << nv;
+        EXPECT_EQ(got.uLo, want.uLo) << nu << "x" << nv;
+        EXPECT_EQ(got.uHi, want.uHi) << nu << "x" << nv;
+        EXPECT_EQ(got.vLo, want.vLo) << nu << "x" << nv;
+        EXPECT_EQ(got.vHi, want.vHi) << nu << "x" << nv;
+        ++checked;
+      }
+  EXPECT_EQ(checked, 40 * 64);
+}
+
+}  // namespace
+}  // namespace emboss
