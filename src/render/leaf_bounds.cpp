@@ -15,59 +15,54 @@ namespace emboss {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// Running extremes, one per lane.
+// Running extremes, one per lane, are passed as six vectors (SVE's sizeless vectors can be
+// neither members nor array elements).
 template <class V>
-struct Extremes {
-  V lo, hi, uLo, uHi, vLo, vHi;
-};
+HWY_INLINE void Extend(V v, V& lo, V& hi) {
+  lo = hn::Min(lo, v), hi = hn::Max(hi, v);
+}
 
-// The patches p .. p + lanes - 1 of row c: their Bezier nets (each corner's value, plus or minus a
-// third of its scaled slopes, and a ninth of its scaled twist; ((d + x) + y) + t in that order, a
-// minus for a negated term: the scalar arithmetic exactly) into the extremes.
+// 3 (b - a): a difference of the net, into its extremes.
 template <class D, class V>
-HWY_INLINE void PatchRow(D d, const LeafSamples& s, int c, int p, Extremes<V>& e) {
-  const V d00 = hn::LoadU(d, &s.d[c][p]), x00 = hn::LoadU(d, &s.x[c][p]), y00 = hn::LoadU(d, &s.y[c][p]),
-          t00 = hn::LoadU(d, &s.t[c][p]);
-  const V d10 = hn::LoadU(d, &s.d[c][p + 1]), x10 = hn::LoadU(d, &s.x[c][p + 1]),
-          y10 = hn::LoadU(d, &s.y[c][p + 1]), t10 = hn::LoadU(d, &s.t[c][p + 1]);
-  const V d01 = hn::LoadU(d, &s.d[c + 1][p]), x01 = hn::LoadU(d, &s.x[c + 1][p]),
-          y01 = hn::LoadU(d, &s.y[c + 1][p]), t01 = hn::LoadU(d, &s.t[c + 1][p]);
-  const V d11 = hn::LoadU(d, &s.d[c + 1][p + 1]), x11 = hn::LoadU(d, &s.x[c + 1][p + 1]),
-          y11 = hn::LoadU(d, &s.y[c + 1][p + 1]), t11 = hn::LoadU(d, &s.t[c + 1][p + 1]);
-  V b[4][4];
+HWY_INLINE void ExtendDiff(D d, V a, V b, V& lo, V& hi) {
+  Extend(hn::Mul(hn::Set(d, 3.0), hn::Sub(b, a)), lo, hi);
+}
+
+// The patches p .. p + lanes - 1 of row c: their Bezier nets b<u><v> (each corner's value, plus or
+// minus a third of its scaled slopes, and a ninth of its scaled twist; ((d + x) + y) + t in that
+// order, a minus for a negated term: the scalar arithmetic exactly) into the extremes.
+template <class D, class V>
+HWY_INLINE void PatchRow(D d, const LeafSamples& s, int c, int p, V& lo, V& hi, V& uLo, V& uHi, V& vLo, V& vHi) {
   // Corner (0, 0): +x, +y, +t.
-  b[0][0] = d00;
-  b[1][0] = hn::Add(d00, x00);
-  b[0][1] = hn::Add(d00, y00);
-  b[1][1] = hn::Add(hn::Add(hn::Add(d00, x00), y00), t00);
+  const V d00 = hn::LoadU(d, &s.d[c][p]), x00 = hn::LoadU(d, &s.x[c][p]);
+  const V b00 = d00, b10 = hn::Add(d00, x00), b01 = hn::Add(d00, hn::LoadU(d, &s.y[c][p]));
+  const V b11 = hn::Add(hn::Add(b10, hn::LoadU(d, &s.y[c][p])), hn::LoadU(d, &s.t[c][p]));
   // Corner (1, 0): -x, +y, -t.
-  b[3][0] = d10;
-  b[2][0] = hn::Sub(d10, x10);
-  b[3][1] = hn::Add(d10, y10);
-  b[2][1] = hn::Sub(hn::Add(hn::Sub(d10, x10), y10), t10);
+  const V d10 = hn::LoadU(d, &s.d[c][p + 1]), x10 = hn::LoadU(d, &s.x[c][p + 1]);
+  const V b30 = d10, b20 = hn::Sub(d10, x10), b31 = hn::Add(d10, hn::LoadU(d, &s.y[c][p + 1]));
+  const V b21 = hn::Sub(hn::Add(b20, hn::LoadU(d, &s.y[c][p + 1])), hn::LoadU(d, &s.t[c][p + 1]));
   // Corner (0, 1): +x, -y, -t.
-  b[0][3] = d01;
-  b[1][3] = hn::Add(d01, x01);
-  b[0][2] = hn::Sub(d01, y01);
-  b[1][2] = hn::Sub(hn::Sub(hn::Add(d01, x01), y01), t01);
+  const V d01 = hn::LoadU(d, &s.d[c + 1][p]), x01 = hn::LoadU(d, &s.x[c + 1][p]);
+  const V b03 = d01, b13 = hn::Add(d01, x01), b02 = hn::Sub(d01, hn::LoadU(d, &s.y[c + 1][p]));
+  const V b12 = hn::Sub(hn::Sub(b13, hn::LoadU(d, &s.y[c + 1][p])), hn::LoadU(d, &s.t[c + 1][p]));
   // Corner (1, 1): -x, -y, +t.
-  b[3][3] = d11;
-  b[2][3] = hn::Sub(d11, x11);
-  b[3][2] = hn::Sub(d11, y11);
-  b[2][2] = hn::Add(hn::Sub(hn::Sub(d11, x11), y11), t11);
-  const V three = hn::Set(d, 3.0);
-  for (int u = 0; u < 4; ++u)
-    for (int v = 0; v < 4; ++v) {
-      e.lo = hn::Min(e.lo, b[u][v]), e.hi = hn::Max(e.hi, b[u][v]);
-      if (u < 3) {
-        const V du = hn::Mul(three, hn::Sub(b[u + 1][v], b[u][v]));
-        e.uLo = hn::Min(e.uLo, du), e.uHi = hn::Max(e.uHi, du);
-      }
-      if (v < 3) {
-        const V dv = hn::Mul(three, hn::Sub(b[u][v + 1], b[u][v]));
-        e.vLo = hn::Min(e.vLo, dv), e.vHi = hn::Max(e.vHi, dv);
-      }
-    }
+  const V d11 = hn::LoadU(d, &s.d[c + 1][p + 1]), x11 = hn::LoadU(d, &s.x[c + 1][p + 1]);
+  const V b33 = d11, b23 = hn::Sub(d11, x11), b32 = hn::Sub(d11, hn::LoadU(d, &s.y[c + 1][p + 1]));
+  const V b22 = hn::Add(hn::Sub(b23, hn::LoadU(d, &s.y[c + 1][p + 1])), hn::LoadU(d, &s.t[c + 1][p + 1]));
+  Extend(b00, lo, hi), Extend(b10, lo, hi), Extend(b20, lo, hi), Extend(b30, lo, hi);
+  Extend(b01, lo, hi), Extend(b11, lo, hi), Extend(b21, lo, hi), Extend(b31, lo, hi);
+  Extend(b02, lo, hi), Extend(b12, lo, hi), Extend(b22, lo, hi), Extend(b32, lo, hi);
+  Extend(b03, lo, hi), Extend(b13, lo, hi), Extend(b23, lo, hi), Extend(b33, lo, hi);
+  // Along u: 3 (b<u+1><v> - b<u><v>).
+  ExtendDiff(d, b00, b10, uLo, uHi), ExtendDiff(d, b10, b20, uLo, uHi), ExtendDiff(d, b20, b30, uLo, uHi);
+  ExtendDiff(d, b01, b11, uLo, uHi), ExtendDiff(d, b11, b21, uLo, uHi), ExtendDiff(d, b21, b31, uLo, uHi);
+  ExtendDiff(d, b02, b12, uLo, uHi), ExtendDiff(d, b12, b22, uLo, uHi), ExtendDiff(d, b22, b32, uLo, uHi);
+  ExtendDiff(d, b03, b13, uLo, uHi), ExtendDiff(d, b13, b23, uLo, uHi), ExtendDiff(d, b23, b33, uLo, uHi);
+  // Along v: 3 (b<u><v+1> - b<u><v>).
+  ExtendDiff(d, b00, b01, vLo, vHi), ExtendDiff(d, b01, b02, vLo, vHi), ExtendDiff(d, b02, b03, vLo, vHi);
+  ExtendDiff(d, b10, b11, vLo, vHi), ExtendDiff(d, b11, b12, vLo, vHi), ExtendDiff(d, b12, b13, vLo, vHi);
+  ExtendDiff(d, b20, b21, vLo, vHi), ExtendDiff(d, b21, b22, vLo, vHi), ExtendDiff(d, b22, b23, vLo, vHi);
+  ExtendDiff(d, b30, b31, vLo, vHi), ExtendDiff(d, b31, b32, vLo, vHi), ExtendDiff(d, b32, b33, vLo, vHi);
 }
 
 template <class D>
@@ -75,16 +70,16 @@ HWY_INLINE void Rows(D d, const LeafSamples& s, int p0, int p1, int patchesV, Le
   using V = hn::Vec<D>;
   const int lanes = static_cast<int>(hn::Lanes(d));
   const V inf = hn::Set(d, std::numeric_limits<double>::infinity()), ninf = hn::Neg(inf);
-  Extremes<V> e{inf, ninf, inf, ninf, inf, ninf};
+  V lo = inf, hi = ninf, uLo = inf, uHi = ninf, vLo = inf, vHi = ninf;
   int p = p0;
   for (; p + lanes <= p1; p += lanes)
-    for (int c = 0; c < patchesV; ++c) PatchRow(d, s, c, p, e);
-  out.lo = std::min(out.lo, hn::GetLane(hn::MinOfLanes(d, e.lo)));
-  out.hi = std::max(out.hi, hn::GetLane(hn::MaxOfLanes(d, e.hi)));
-  out.uLo = std::min(out.uLo, hn::GetLane(hn::MinOfLanes(d, e.uLo)));
-  out.uHi = std::max(out.uHi, hn::GetLane(hn::MaxOfLanes(d, e.uHi)));
-  out.vLo = std::min(out.vLo, hn::GetLane(hn::MinOfLanes(d, e.vLo)));
-  out.vHi = std::max(out.vHi, hn::GetLane(hn::MaxOfLanes(d, e.vHi)));
+    for (int c = 0; c < patchesV; ++c) PatchRow(d, s, c, p, lo, hi, uLo, uHi, vLo, vHi);
+  out.lo = std::min(out.lo, hn::GetLane(hn::MinOfLanes(d, lo)));
+  out.hi = std::max(out.hi, hn::GetLane(hn::MaxOfLanes(d, hi)));
+  out.uLo = std::min(out.uLo, hn::GetLane(hn::MinOfLanes(d, uLo)));
+  out.uHi = std::max(out.uHi, hn::GetLane(hn::MaxOfLanes(d, uHi)));
+  out.vLo = std::min(out.vLo, hn::GetLane(hn::MinOfLanes(d, vLo)));
+  out.vHi = std::max(out.vHi, hn::GetLane(hn::MaxOfLanes(d, vHi)));
   // The last patches, fewer than a vector, one lane at a time.
   if (p < p1) {
     const hn::CappedTag<double, 1> d1;
