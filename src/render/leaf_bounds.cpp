@@ -65,8 +65,10 @@ HWY_INLINE void PatchRow(D d, const LeafSamples& s, int c, int p, V& lo, V& hi, 
   ExtendDiff(d, b30, b31, vLo, vHi), ExtendDiff(d, b31, b32, vLo, vHi), ExtendDiff(d, b32, b33, vLo, vHi);
 }
 
+// The patches p0 .. p1 - 1 of every row, a vector at a time while a whole vector fits, into out;
+// returns the first patch not done.
 template <class D>
-HWY_INLINE void Rows(D d, const LeafSamples& s, int p0, int p1, int patchesV, LeafNetBounds& out) {
+HWY_INLINE int Rows(D d, const LeafSamples& s, int p0, int p1, int patchesV, LeafNetBounds& out) {
   using V = hn::Vec<D>;
   const int lanes = static_cast<int>(hn::Lanes(d));
   const V inf = hn::Set(d, std::numeric_limits<double>::infinity()), ninf = hn::Neg(inf);
@@ -80,18 +82,16 @@ HWY_INLINE void Rows(D d, const LeafSamples& s, int p0, int p1, int patchesV, Le
   out.uHi = std::max(out.uHi, hn::GetLane(hn::MaxOfLanes(d, uHi)));
   out.vLo = std::min(out.vLo, hn::GetLane(hn::MinOfLanes(d, vLo)));
   out.vHi = std::max(out.vHi, hn::GetLane(hn::MaxOfLanes(d, vHi)));
-  // The last patches, fewer than a vector, one lane at a time.
-  if (p < p1) {
-    const hn::CappedTag<double, 1> d1;
-    Rows(d1, s, p, p1, patchesV, out);
-  }
+  return p;
 }
 
 LeafNetBounds LeafBounds(const LeafSamples& s, int patchesU, int patchesV) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   LeafNetBounds out{inf, -inf, inf, -inf, inf, -inf};
   const hn::CappedTag<double, 8> d;  // loads end within a row's 16 doubles
-  Rows(d, s, 0, patchesU, patchesV, out);
+  const int p = Rows(d, s, 0, patchesU, patchesV, out);
+  // The last patches, fewer than a vector, one lane at a time.
+  if (p < patchesU) Rows(hn::CappedTag<double, 1>(), s, p, patchesU, patchesV, out);
   return out;
 }
 

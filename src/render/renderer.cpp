@@ -133,7 +133,8 @@ std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, c
                                              std::vector<std::uint32_t>& scratch, glm::vec3& normalOut) const {
   normalOut = glm::vec3(0.0f);
   // Outside the projection of every surface the ray misses for certain: not even set up.
-  if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h) {
+  if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
+      (field && !outlineMask_.empty() && outlineMaskMisses(sx, sy))) {
     ++st.rays;
     return std::nullopt;
   }
@@ -207,6 +208,7 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
   // Rays through image points outside `reach` miss every surface: the projection of the box that
   // holds them (projectBox() is conservative by a pixel).
   const Rect reach = options_.cullOutsideClip ? projectBox(field ? fieldClip_ : bounds_) : Rect{0, 0, w, h};
+  if (field) updateOutlineMask();
   // A miss's centre colour (the backdrop) is only needed on an edge: found there.
   const bool traced = pass(ring, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     const size_t i = at(x, y);

@@ -213,6 +213,7 @@ class Renderer {
     std::vector<VmProgram> blockTape;
     std::vector<std::int32_t> blockTapeOf;
     std::vector<std::uint8_t> leafOutside;  // per leaf: 1 when a block of it is outside (hi < 0)
+    std::vector<std::uint8_t> leafInside;   // per leaf: 1 when a block of it is not outside
     // Whether some block under the box (mm) is outside, or the box leaves the map.
     bool anyOutside(const Box2& xy) const;
     struct Column {
@@ -226,6 +227,21 @@ class Renderer {
     size_t memoryBytes() const;
   };
   void buildColumns();
+  // Outline sheets: which 8 x 8 pixel tiles a ray can hit a surface from (the projections of the
+  // column leaves that are not all outside and of the set operations' boxes, at every height the
+  // field tracer's clip box allows). Rebuilt by render() when the camera, the clip box or the set
+  // operations changed; empty for other pieces.
+  static constexpr int kMaskTile = 8;
+  void updateOutlineMask();
+  bool outlineMaskMisses(double sx, double sy) const {
+    const int tx = std::clamp(static_cast<int>(sx) / kMaskTile, 0, maskTilesX_ - 1);
+    const int ty = std::clamp(static_cast<int>(sy) / kMaskTile, 0, maskTilesY_ - 1);
+    return outlineMask_[static_cast<size_t>(ty) * maskTilesX_ + tx] == 0;
+  }
+  std::vector<std::uint8_t> outlineMask_;
+  int maskTilesX_ = 0, maskTilesY_ = 0;
+  std::vector<double> outlineMaskKey_;
+  std::uint64_t cameraGeneration_ = 0;
   // The workpiece at p (an outline sheet's: through the tapes; any other: as it is).
   double workpieceValue(const P3<double>& p) const;
   Grad workpieceValue(const P3<Grad>& p) const;

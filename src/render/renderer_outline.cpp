@@ -119,6 +119,7 @@ void Renderer::buildColumns() {
   auto decided = [&](const ColumnMap::Column& b) { return b.hi < 0.0f || b.lo >= static_cast<float>(d); };
   c.blockTapeOf.assign(c.lo.size(), -1);
   c.leafOutside.assign(c.leafTape.size(), 0);
+  c.leafInside.assign(c.leafTape.size(), 0);
   c.blockTape.clear();
   // Each region's block tapes, gathered after: (block, tape).
   std::vector<std::vector<std::pair<size_t, VmProgram>>> regionBlocks(static_cast<size_t>(c.regionsX) * c.regionsY);
@@ -144,7 +145,7 @@ void Renderer::buildColumns() {
             const ColumnMap::Column col = decided(b) ? b : bounds(leaf, i, j, i + 1, j + 1);
             const size_t k = static_cast<size_t>(j) * c.nx + i;
             c.lo[k] = col.lo, c.hi[k] = col.hi;
-            if (col.hi < 0.0f) c.leafOutside[static_cast<size_t>(lb) * c.leavesX + la] = 1;
+            (col.hi < 0.0f ? c.leafOutside : c.leafInside)[static_cast<size_t>(lb) * c.leavesX + la] = 1;
             if (!decided(col)) {
               VmProgram block = specialise(leaf, i, j, i + 1, j + 1);
               block.dropNodes();
@@ -156,11 +157,46 @@ void Renderer::buildColumns() {
     region.dropNodes();
     c.regionTape[static_cast<size_t>(rb) * c.regionsX + ra] = std::move(region);
   });
+  outlineMaskKey_.clear();  // the mask follows the new map
   for (auto& blocks : regionBlocks)
     for (auto& [k, tape] : blocks) {
       c.blockTapeOf[k] = static_cast<std::int32_t>(c.blockTape.size());
       c.blockTape.push_back(std::move(tape));
     }
+}
+
+void Renderer::updateOutlineMask() {
+  if (workpieceKind_ != 4 || !options_.cullOutsideClip || !camera_) {
+    outlineMask_.clear(), outlineMaskKey_.clear();
+    return;
+  }
+  std::vector<double> key{static_cast<double>(cameraGeneration_), fieldClip_.x0, fieldClip_.y0, fieldClip_.z0,
+                          fieldClip_.x1, fieldClip_.y1, fieldClip_.z1};
+  for (const SetOp& s : setOps_)
+    for (double v : {s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}) key.push_back(v);
+  if (key == outlineMaskKey_ && !outlineMask_.empty()) return;
+  outlineMaskKey_ = std::move(key);
+  const int w = camera_->width(), h = camera_->height();
+  maskTilesX_ = (w + kMaskTile - 1) / kMaskTile, maskTilesY_ = (h + kMaskTile - 1) / kMaskTile;
+  outlineMask_.assign(static_cast<size_t>(maskTilesX_) * maskTilesY_, 0);
+  // A ray is tested where its image point lies (shadeRay: up to the rectangle's far edge
+  // included); a tile is marked when the rectangle reaches into it.
+  auto mark = [&](const Box3& b) {
+    const Rect r = projectBox(b);
+    if (r.empty()) return;
+    const int tx0 = std::max(0, r.x / kMaskTile), ty0 = std::max(0, r.y / kMaskTile);
+    const int tx1 = std::min(maskTilesX_ - 1, (r.x + r.w) / kMaskTile), ty1 = std::min(maskTilesY_ - 1, (r.y + r.h) / kMaskTile);
+    for (int ty = ty0; ty <= ty1; ++ty)
+      std::fill_n(&outlineMask_[static_cast<size_t>(ty) * maskTilesX_ + tx0], tx1 - tx0 + 1, std::uint8_t{1});
+  };
+  const ColumnMap& c = columns_;
+  const double leaf = ColumnMap::kLeaf * c.size, hair = 1e-6 * (1.0 + std::abs(c.x0) + std::abs(c.y0)) + 1e-9;
+  for (int lb = 0; lb < c.leavesY; ++lb)
+    for (int la = 0; la < c.leavesX; ++la)
+      if (c.leafInside[static_cast<size_t>(lb) * c.leavesX + la])
+        mark(Box3{c.x0 + la * leaf - hair, c.y0 + lb * leaf - hair, fieldClip_.z0, c.x0 + (la + 1) * leaf + hair,
+                  c.y0 + (lb + 1) * leaf + hair, fieldClip_.z1});
+  for (const SetOp& s : setOps_) mark(Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi});
 }
 
 }  // namespace emboss

@@ -253,6 +253,7 @@ void Renderer::syncSetOps(const Model& model) {
 void Renderer::setCamera(const Camera& camera) {
   const bool sameSize = camera_ && camera_->width() == camera.width() && camera_->height() == camera.height();
   camera_ = camera;
+  ++cameraGeneration_;
   if (sameSize && !backdrop_.empty()) return;
   // The backdrop depends on the pixel and the picture's size alone: computed once per size, the
   // last two sizes kept.

@@ -212,6 +212,71 @@ TEST(DirtyRegion, CullingOutsideTheClipBoxChangesNoPixel) {
   }
 }
 
+// On an outline sheet only the pixels over the column leaves the outline reaches, and over the set
+// operations' boxes, are traced: the picture is still the one every pixel's ray gives, with a bead
+// blended on beside the outline (where no column is inside), from above, at a slant and low down.
+TEST(DirtyRegion, CullingOutsideAnOutlineChangesNoPixel) {
+  auto program = VmProgram::parse(generateVmRelief(150, 5), "test");
+  ASSERT_TRUE(program.ok()) << program.error();
+  auto wp = VmWorkpiece::create(std::move(*program), "test.vm", 18.0, 0.5);
+  ASSERT_TRUE(wp.ok()) << wp.error();
+  const Box3 b = (*wp)->bounds();
+  PieceOptions opt;
+  opt.width = b.x1 - b.x0, opt.height = b.y1 - b.y0, opt.halfThickness = 0.5;
+  GeneratedPiece piece = generatePiece(30, 5, opt);
+  moveOperations(piece, 0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
+  std::erase_if(piece.operations, [](const Operation& o) { return !o.isOffset(); });
+  piece.workpiece = *wp;
+  Model model(piece.workpiece, piece.deformation);
+  for (const Operation& o : piece.operations) ASSERT_TRUE(model.add(o).ok());
+  // A bead at a corner of the bounds, outside the outline: a surface no inside column holds.
+  Operation bead;
+  bead.kind = OpKind::BlendUnion;
+  bead.tool.type = ToolShape::Type::Sphere;
+  bead.tool.r = 1.5;
+  bead.tool.center = {b.x0 + 1.0, b.y0 + 1.0, 0.5};
+  bead.a1 = 0.4, bead.a2 = 1.0, bead.a3 = 3.0;
+  ASSERT_TRUE((*wp)->value(P3<double>{bead.tool.center.x, bead.tool.center.y, 0.0}) < 0.0) << "the bead should lie outside";
+  ASSERT_TRUE(model.add(bead).ok());
+  const double cx = 0.5 * (b.x0 + b.x1), cy = 0.5 * (b.y0 + b.y1), span = b.x1 - b.x0;
+  std::vector<CameraSpec> cameras(3);
+  cameras[0].eye = {cx, cy, 2.5 * span}, cameras[0].target = {cx, cy, 0};
+  cameras[1].eye = {cx + 0.6 * span, cy - 1.2 * span, 1.0 * span}, cameras[1].target = {cx, cy, 0};
+  cameras[2].eye = {cx, cy - 1.6 * span, 0.15 * span}, cameras[2].target = {cx, cy, 0};
+  ThreadPool pool(2);
+  long beadPixels = 0;
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    Renderer culled(pool), all(pool);
+    const Camera cam(cameras[k], 320, 200);
+    for (Renderer* r : {&culled, &all}) {
+      RenderOptions o;
+      o.cullOutsideClip = r == &culled;
+      r->setOptions(o);
+      r->setCamera(cam);
+      r->setShading(shading(model));
+      r->sync(model);
+    }
+    Image a, c;
+    culled.renderFull(a);
+    all.renderFull(c);
+    EXPECT_EQ(firstDifference(a, c), "") << "camera " << k;
+    // The bead shows: its pixels differ from the backdrop's.
+    if (const auto q = cam.project({bead.tool.center.x, bead.tool.center.y, bead.tool.center.z + bead.tool.r}))
+      if (q->x >= 0 && q->y >= 0 && q->x < a.width && q->y < a.height) {
+        Image bare;
+        Renderer none(pool);
+        none.setCamera(cam);
+        none.setShading(shading(model));
+        Model plain(piece.workpiece, piece.deformation);
+        none.sync(plain);
+        none.renderFull(bare);
+        beadPixels += std::memcmp(a.pixel(static_cast<int>(q->x), static_cast<int>(q->y)),
+                                  bare.pixel(static_cast<int>(q->x), static_cast<int>(q->y)), 3) != 0;
+      }
+  }
+  EXPECT_GT(beadPixels, 0) << "the bead should be seen from some camera";
+}
+
 TEST(DirtyRegionSlow, ManySeeds) {
   for (unsigned seed = 10; seed < 16; ++seed) {
     runCase({seed % 2 ? PieceShape::Disc : PieceShape::Plate, Deformation::Sheet, false, 320, 200, 80, seed});
