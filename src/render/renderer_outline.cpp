@@ -49,7 +49,8 @@ bool Renderer::ColumnMap::anyOutside(const Box2& xy) const {
 }
 
 size_t Renderer::ColumnMap::memoryBytes() const {
-  size_t n = (lo.size() + hi.size()) * sizeof(float) + blockTapeOf.size() * sizeof(std::int32_t) + leafOutside.size();
+  size_t n = (lo.size() + hi.size()) * sizeof(float) + blockTapeOf.size() * sizeof(std::int32_t) + leafOutside.size() +
+             leafInside.size();
   for (const auto* tapes : {&leafTape, &regionTape, &blockTape})
     for (const VmProgram& t : *tapes) n += sizeof t + t.memoryBytes();
   return n;

@@ -37,7 +37,7 @@ void Renderer::sync(const Model& model) {
 
 size_t Renderer::memoryBytes() const {
   size_t n = field_.memoryBytes() + grid_.memoryBytes();
-  if (workpieceKind_ == 4) n += columns_.memoryBytes();
+  if (workpieceKind_ == 4) n += columns_.memoryBytes() + outlineMask_.size();
   n += saved_.samples.samples.capacity() * sizeof(HeightField::Sample);
   for (const SetOp& s : setOps_)
     if (s.shift) n += s.shift->memoryBytes();
