@@ -176,15 +176,8 @@ void HeightField::updateLeaves(int la0, int lb0, int la1, int lb1) {
       // Per sample, once (not once per patch it is a corner of): its value, a third of its scaled
       // slopes and a ninth of its scaled twist. A corner's signs only negate them (exactly), so the
       // nets leafNetBounds works out are those of the patches' own arithmetic, bit for bit.
-      for (int j = j0; j <= j1; ++j)
-        for (int i = i0; i <= i1; ++i) {
-          const Sample& k = at(i, j);
-          const int a = i - i0, c = j - j0;
-          net.d[c][a] = k.d;
-          net.x[c][a] = s * k.dx / 3.0;
-          net.y[c][a] = s * k.dy / 3.0;
-          net.t[c][a] = s * s * k.dxy / 9.0;
-        }
+      static_assert(sizeof(Sample) == 4 * sizeof(float), "samples are four floats, packed");
+      loadLeafSamples(&at(i0, j0).d, 4L * nx_, i1 - i0 + 1, j1 - j0 + 1, s, net);
       const LeafNetBounds b = leafNetBounds(net, i1 - i0, j1 - j0);
       l.nodes[static_cast<size_t>(lb) * l.w + la] = leafNode(b.lo, b.hi, b.uLo, b.uHi, b.vLo, b.vHi);
     }

@@ -95,6 +95,30 @@ LeafNetBounds LeafBounds(const LeafSamples& s, int patchesU, int patchesV) {
   return out;
 }
 
+// Samples a .. a + lanes - 1 of a row, deinterleaved and widened, into row c of s.
+template <class DD>
+HWY_INLINE void LoadSamples(DD dd, const float* row, int a, double spacing, LeafSamples& s, int c) {
+  const hn::Rebind<float, DD> df;
+  hn::Vec<decltype(df)> d, dx, dy, dxy;
+  hn::LoadInterleaved4(df, row + 4 * a, d, dx, dy, dxy);
+  const auto sp = hn::Set(dd, spacing), sp2 = hn::Set(dd, spacing * spacing);
+  hn::StoreU(hn::PromoteTo(dd, d), dd, &s.d[c][a]);
+  hn::StoreU(hn::Div(hn::Mul(sp, hn::PromoteTo(dd, dx)), hn::Set(dd, 3.0)), dd, &s.x[c][a]);
+  hn::StoreU(hn::Div(hn::Mul(sp, hn::PromoteTo(dd, dy)), hn::Set(dd, 3.0)), dd, &s.y[c][a]);
+  hn::StoreU(hn::Div(hn::Mul(sp2, hn::PromoteTo(dd, dxy)), hn::Set(dd, 9.0)), dd, &s.t[c][a]);
+}
+
+void LoadLeaf(const float* first, long rowFloats, int samplesU, int samplesV, double spacing, LeafSamples& s) {
+  const hn::CappedTag<double, 8> dd;  // stores end within a row's 16 doubles
+  const int lanes = static_cast<int>(hn::Lanes(dd));
+  for (int c = 0; c < samplesV; ++c) {
+    const float* row = first + c * rowFloats;
+    int a = 0;
+    for (; a + lanes <= samplesU; a += lanes) LoadSamples(dd, row, a, spacing, s, c);
+    for (; a < samplesU; ++a) LoadSamples(hn::CappedTag<double, 1>(), row, a, spacing, s, c);
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace emboss
 HWY_AFTER_NAMESPACE();
@@ -103,6 +127,11 @@ HWY_AFTER_NAMESPACE();
 namespace emboss {
 
 HWY_EXPORT(LeafBounds);
+HWY_EXPORT(LoadLeaf);
+
+void loadLeafSamples(const float* first, long rowFloats, int samplesU, int samplesV, double spacing, LeafSamples& s) {
+  HWY_DYNAMIC_DISPATCH(LoadLeaf)(first, rowFloats, samplesU, samplesV, spacing, s);
+}
 
 LeafNetBounds leafNetBounds(const LeafSamples& s, int patchesU, int patchesV) {
   return HWY_DYNAMIC_DISPATCH(LeafBounds)(s, patchesU, patchesV);

@@ -25,4 +25,10 @@ struct LeafNetBounds {
 };
 LeafNetBounds leafNetBounds(const LeafSamples& s, int patchesU, int patchesV);
 
+// Fills s from a leaf's samples as the height field stores them (d, dx, dy, dxy floats in a row,
+// `rowFloats` floats from a row to the next), (samplesU x samplesV, 1 to 9 each), spacing `spacing`:
+// d, spacing dx / 3, spacing dy / 3 and spacing^2 dxy / 9 in doubles, the operations in that order
+// (the same bits as one sample at a time).
+void loadLeafSamples(const float* first, long rowFloats, int samplesU, int samplesV, double spacing, LeafSamples& s);
+
 }  // namespace emboss

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "render/leaf_bounds.h"
 
@@ -82,6 +83,34 @@ TEST(LeafBounds, EqualThePatchByPatchNetsBitForBit) {
         ++checked;
       }
   EXPECT_EQ(checked, 40 * 64);
+}
+
+TEST(LeafBounds, SamplesAreTakenInAsOneAtATime) {
+  // Rows of (d, dx, dy, dxy) floats, 37 samples a row; every leaf size at every offset along it.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+  constexpr int kRow = 37, kRows = 12;
+  std::vector<float> samples(4 * kRow * kRows);
+  for (float& f : samples) f = u(rng);
+  const double s = 0.125;
+  int checked = 0;
+  for (int nu = 1; nu <= 9; ++nu)
+    for (int nv = 1; nv <= 9; ++nv)
+      for (int i0 : {0, 1, 5, kRow - nu})
+        for (int j0 : {0, 2, kRows - nv}) {
+          LeafSamples got;
+          loadLeafSamples(&samples[4 * (static_cast<size_t>(j0) * kRow + i0)], 4L * kRow, nu, nv, s, got);
+          for (int c = 0; c < nv; ++c)
+            for (int a = 0; a < nu; ++a) {
+              const float* k = &samples[4 * (static_cast<size_t>(j0 + c) * kRow + i0 + a)];
+              ASSERT_TRUE(sameBits(got.d[c][a], k[0])) << nu << "x" << nv << " at " << a << "," << c;
+              ASSERT_TRUE(sameBits(got.x[c][a], s * k[1] / 3.0)) << nu << "x" << nv << " at " << a << "," << c;
+              ASSERT_TRUE(sameBits(got.y[c][a], s * k[2] / 3.0)) << nu << "x" << nv << " at " << a << "," << c;
+              ASSERT_TRUE(sameBits(got.t[c][a], s * s * k[3] / 9.0)) << nu << "x" << nv << " at " << a << "," << c;
+            }
+          ++checked;
+        }
+  EXPECT_EQ(checked, 81 * 12);
 }
 
 }  // namespace
