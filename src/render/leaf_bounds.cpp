@@ -119,6 +119,28 @@ void LoadLeaf(const float* first, long rowFloats, int samplesU, int samplesV, do
   }
 }
 
+template <class DD>
+HWY_INLINE void Twists(DD dd, const float* below, const float* row, const float* above, int k, double den, float* out) {
+  const hn::Rebind<float, DD> df;
+  hn::Vec<decltype(df)> d, dxBelow, dxAbove, dyPrev, dyNext, skip;
+  hn::LoadInterleaved4(df, below + 4 * k, d, dxBelow, skip, skip);
+  hn::LoadInterleaved4(df, above + 4 * k, d, dxAbove, skip, skip);
+  hn::LoadInterleaved4(df, row + 4 * (k - 1), d, skip, dyPrev, skip);
+  hn::LoadInterleaved4(df, row + 4 * (k + 1), d, skip, dyNext, skip);
+  const auto dn = hn::Set(dd, den);
+  const auto dxy = hn::Div(hn::Sub(hn::PromoteTo(dd, dxAbove), hn::PromoteTo(dd, dxBelow)), dn);
+  const auto dyx = hn::Div(hn::Sub(hn::PromoteTo(dd, dyNext), hn::PromoteTo(dd, dyPrev)), dn);
+  hn::StoreU(hn::DemoteTo(df, hn::Mul(hn::Set(dd, 0.5), hn::Add(dxy, dyx))), df, out + k);
+}
+
+void TwistRow(const float* below, const float* row, const float* above, int n, double den, float* out) {
+  const hn::CappedTag<double, 8> dd;
+  const int lanes = static_cast<int>(hn::Lanes(dd));
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) Twists(dd, below, row, above, k, den, out);
+  for (; k < n; ++k) Twists(hn::CappedTag<double, 1>(), below, row, above, k, den, out);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace emboss
 HWY_AFTER_NAMESPACE();
@@ -128,6 +150,11 @@ namespace emboss {
 
 HWY_EXPORT(LeafBounds);
 HWY_EXPORT(LoadLeaf);
+HWY_EXPORT(TwistRow);
+
+void twistRow(const float* below, const float* row, const float* above, int n, double den, float* out) {
+  HWY_DYNAMIC_DISPATCH(TwistRow)(below, row, above, n, den, out);
+}
 
 void loadLeafSamples(const float* first, long rowFloats, int samplesU, int samplesV, double spacing, LeafSamples& s) {
   HWY_DYNAMIC_DISPATCH(LoadLeaf)(first, rowFloats, samplesU, samplesV, spacing, s);

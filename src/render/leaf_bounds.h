@@ -31,4 +31,10 @@ LeafNetBounds leafNetBounds(const LeafSamples& s, int patchesU, int patchesV);
 // (the same bits as one sample at a time).
 void loadLeafSamples(const float* first, long rowFloats, int samplesU, int samplesV, double spacing, LeafSamples& s);
 
+// The twists of n samples inside a row, from their neighbours' slopes (samples stored as above:
+// `row` the first of them, `below` and `above` the samples under it in the rows j - 1 and j + 1):
+// out[k] = float(0.5 ((above.dx - below.dx) / den + (next.dy - previous.dy) / den)), in doubles in
+// that order (the same bits as one sample at a time).
+void twistRow(const float* below, const float* row, const float* above, int n, double den, float* out);
+
 }  // namespace emboss

@@ -113,5 +113,29 @@ TEST(LeafBounds, SamplesAreTakenInAsOneAtATime) {
   EXPECT_EQ(checked, 81 * 12);
 }
 
+TEST(LeafBounds, ARowsTwistsAreItsSamplesOneAtATime) {
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+  constexpr int kRow = 40;
+  std::vector<float> rows(3 * 4 * kRow);
+  for (float& f : rows) f = u(rng);
+  const float* below = rows.data();
+  const float* row = below + 4 * kRow;
+  const float* above = row + 4 * kRow;
+  const double den = 2 * 0.125;
+  for (int first = 1; first < 4; ++first)
+    for (int n = 1; first + n < kRow; ++n) {
+      std::vector<float> got(static_cast<size_t>(n));
+      twistRow(below + 4 * first, row + 4 * first, above + 4 * first, n, den, got.data());
+      for (int k = 0; k < n; ++k) {
+        const int i = first + k;
+        const double dxy = (static_cast<double>(above[4 * i + 1]) - below[4 * i + 1]) / den;
+        const double dyx = (static_cast<double>(row[4 * (i + 1) + 2]) - row[4 * (i - 1) + 2]) / den;
+        const float want = static_cast<float>(0.5 * (dxy + dyx));
+        ASSERT_EQ(std::memcmp(&got[static_cast<size_t>(k)], &want, sizeof want), 0) << "n " << n << " k " << k;
+      }
+    }
+}
+
 }  // namespace
 }  // namespace emboss
