@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "frep/vm_generate.h"
+#include "frep/vm_model.h"
 #include "frep/workpieces.h"
 
 namespace emboss {
@@ -207,6 +209,23 @@ Operation randomSetOperation(PieceRandom& rng, const GeneratedPiece& piece, doub
     o.tool.center.z = d + 0.5 * o.tool.r;
   }
   return o;
+}
+
+Result<GeneratedPiece> generateOutlinePiece(int clauses, unsigned outlineSeed, double scale, double halfThickness,
+                                            int operations, unsigned seed, bool strokesOnly) {
+  auto program = VmProgram::parse(generateVmRelief(clauses, outlineSeed), "generated");
+  if (!program) return fail(program.error());
+  auto wp = VmWorkpiece::create(std::move(*program), "generated.vm", scale, halfThickness);
+  if (!wp) return fail(wp.error());
+  const Box3 b = (*wp)->bounds();
+  PieceOptions opt;
+  opt.width = b.x1 - b.x0, opt.height = b.y1 - b.y0, opt.halfThickness = halfThickness;
+  GeneratedPiece piece = generatePiece(operations, seed, opt);
+  moveOperations(piece, 0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
+  if (strokesOnly) std::erase_if(piece.operations, [](const Operation& o) { return !o.isOffset(); });
+  piece.workpiece = *wp;
+  piece.camera = defaultCamera(b);
+  return piece;
 }
 
 void moveOperations(GeneratedPiece& piece, double dx, double dy) {

@@ -56,6 +56,14 @@ GeneratedPiece generatePiece(int operations, unsigned seed, const PieceOptions& 
 // a relief generated around the origin put onto a workpiece centred elsewhere.
 void moveOperations(GeneratedPiece& piece, double dx, double dy);
 
+// An imported workpiece: a medallion outline from the vm generator (generateVmRelief(clauses,
+// outlineSeed)), `scale` mm per unit and 2 halfThickness thick, with a relief of `operations`
+// generated over its bounds (generatePiece with `seed`) and moved onto it; only the strokes when
+// `strokesOnly` (a set operation on an outline sheet is traced with the program's own intervals,
+// slowly). Seen by defaultCamera().
+Result<GeneratedPiece> generateOutlinePiece(int clauses, unsigned outlineSeed, double scale, double halfThickness,
+                                            int operations, unsigned seed, bool strokesOnly);
+
 // One more stroke somewhere on the piece's surface (for dirty-update timings): a punch from
 // behind, or one traced segment from the front.
 Operation randomPunch(PieceRandom& rng, const GeneratedPiece& piece, double toolScale = 1.0);

@@ -300,25 +300,13 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
   if (wanted("vm medallion")) {
     const int clauses = quick ? 400 : 3000;
     std::fprintf(stderr, "emboss bench: vm medallion, %d clauses...\n", clauses);
-    auto program = VmProgram::parse(generateVmRelief(clauses, 7), "generated");
-    if (!program) {
-      std::fprintf(stderr, "emboss bench: %s\n", program.error().c_str());
+    // The relief is generated over the model's bounds and moved onto it; strokes only.
+    auto piece = generateOutlinePiece(clauses, 7, 45.0, 0.4, quick ? 50 : 300, 2002, true);
+    if (!piece) {
+      std::fprintf(stderr, "emboss bench: %s\n", piece.error().c_str());
       return 1;
     }
-    auto wp = VmWorkpiece::create(std::move(*program), "generated.vm", 45.0, 0.4);
-    if (!wp) {
-      std::fprintf(stderr, "emboss bench: %s\n", wp.error().c_str());
-      return 1;
-    }
-    // The relief is generated over the model's bounds and moved onto it.
-    const Box3 b = (*wp)->bounds();
-    GeneratedPiece piece = generatePiece(quick ? 50 : 300, 2002, PieceOptions{PieceShape::Plate, b.x1 - b.x0, b.y1 - b.y0, 0.4});
-    moveOperations(piece, 0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
-    // Strokes only: a blend on an outline sheet is traced with the model's own intervals (slow).
-    std::erase_if(piece.operations, [](const Operation& o) { return !o.isOffset(); });
-    piece.workpiece = *wp;
-    piece.camera = defaultCamera(b);
-    rows.push_back(measure("vm " + std::to_string(clauses) + " clauses", piece, s, pool, quick ? 8 : 16, baseline));
+    rows.push_back(measure("vm " + std::to_string(clauses) + " clauses", *piece, s, pool, quick ? 8 : 16, baseline));
   }
   const std::string text = table(rows, s, cores, baseline);
   std::fputs(text.c_str(), stdout);

@@ -216,17 +216,10 @@ TEST(DirtyRegion, CullingOutsideTheClipBoxChangesNoPixel) {
 // operations' boxes, are traced: the picture is still the one every pixel's ray gives, with a bead
 // blended on beside the outline (where no column is inside), from above, at a slant and low down.
 TEST(DirtyRegion, CullingOutsideAnOutlineChangesNoPixel) {
-  auto program = VmProgram::parse(generateVmRelief(150, 5), "test");
-  ASSERT_TRUE(program.ok()) << program.error();
-  auto wp = VmWorkpiece::create(std::move(*program), "test.vm", 18.0, 0.5);
-  ASSERT_TRUE(wp.ok()) << wp.error();
-  const Box3 b = (*wp)->bounds();
-  PieceOptions opt;
-  opt.width = b.x1 - b.x0, opt.height = b.y1 - b.y0, opt.halfThickness = 0.5;
-  GeneratedPiece piece = generatePiece(30, 5, opt);
-  moveOperations(piece, 0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
-  std::erase_if(piece.operations, [](const Operation& o) { return !o.isOffset(); });
-  piece.workpiece = *wp;
+  auto outline = generateOutlinePiece(150, 5, 18.0, 0.5, 30, 5, true);
+  ASSERT_TRUE(outline.ok()) << outline.error();
+  const GeneratedPiece& piece = *outline;
+  const Box3 b = piece.workpiece->bounds();
   Model model(piece.workpiece, piece.deformation);
   for (const Operation& o : piece.operations) ASSERT_TRUE(model.add(o).ok());
   // A bead at a corner of the bounds, outside the outline: a surface no inside column holds.
@@ -236,7 +229,7 @@ TEST(DirtyRegion, CullingOutsideAnOutlineChangesNoPixel) {
   bead.tool.r = 1.5;
   bead.tool.center = {b.x0 + 1.0, b.y0 + 1.0, 0.5};
   bead.a1 = 0.4, bead.a2 = 1.0, bead.a3 = 3.0;
-  ASSERT_TRUE((*wp)->value(P3<double>{bead.tool.center.x, bead.tool.center.y, 0.0}) < 0.0) << "the bead should lie outside";
+  ASSERT_TRUE(piece.workpiece->value(P3<double>{bead.tool.center.x, bead.tool.center.y, 0.0}) < 0.0) << "the bead should lie outside";
   ASSERT_TRUE(model.add(bead).ok());
   const double cx = 0.5 * (b.x0 + b.x1), cy = 0.5 * (b.y0 + b.y1), span = b.x1 - b.x0;
   std::vector<CameraSpec> cameras(3);

@@ -6,8 +6,6 @@
 #include <string>
 
 #include "bench/piece_generator.h"
-#include "frep/vm_generate.h"
-#include "frep/vm_model.h"
 #include "render/renderer.h"
 #include "tools/metal.h"
 
@@ -35,17 +33,9 @@ Image renderWith(const GeneratedPiece& piece, const Model& model, bool specialis
 TEST(OutlineTapes, ThePictureIsTheWholeProgramsByteForByte) {
   for (unsigned seed : {4u, 9u}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    auto program = VmProgram::parse(generateVmRelief(900, seed), "test");
-    ASSERT_TRUE(program.ok()) << program.error();
-    auto wp = VmWorkpiece::create(std::move(*program), "test.vm", 30.0, 0.5);
-    ASSERT_TRUE(wp.ok()) << wp.error();
-    const Box3 b = (*wp)->bounds();
-    PieceOptions opt;
-    opt.width = b.x1 - b.x0, opt.height = b.y1 - b.y0, opt.halfThickness = 0.5;
-    GeneratedPiece piece = generatePiece(40, seed, opt);
-    moveOperations(piece, 0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
-    piece.workpiece = *wp;
-    piece.camera = defaultCamera(b);
+    auto outline = generateOutlinePiece(900, seed, 30.0, 0.5, 40, seed, false);
+    ASSERT_TRUE(outline.ok()) << outline.error();
+    const GeneratedPiece& piece = *outline;
     Model model(piece.workpiece, piece.deformation);
     for (const Operation& o : piece.operations) ASSERT_TRUE(model.add(o).ok());
     size_t withTapes = 0, without = 0;
