@@ -1,5 +1,5 @@
-// leafNetBounds for each SIMD target Highway knows (compiled once per target by foreach_target.h),
-// and the run-time choice among them.
+// leafNetBounds, loadLeafSamples and twistRow for each SIMD target Highway knows (compiled once per
+// target by foreach_target.h), and the run-time choice among them.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/leaf_bounds.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep

@@ -1,6 +1,7 @@
-// The bounds of a height-field pyramid leaf: of its bicubic Hermite patches and their slopes, from
-// the convex hulls of their Bezier nets (HeightField::updateLeaves), a row of patches at a time in
-// SIMD lanes (Highway, the instruction set chosen at run time, as src/frep/path_rows.cpp).
+// The height field's batch work after its samples, in SIMD lanes (Highway, the instruction set
+// chosen at run time, as src/frep/path_rows.cpp): the bounds of a pyramid leaf (of its bicubic
+// Hermite patches and their slopes, from the convex hulls of their Bezier nets; HeightField::
+// updateLeaves) a row of patches at a time, the samples they read, and the twists a row at a time.
 #pragma once
 
 namespace emboss {
