@@ -119,12 +119,15 @@ void LoadLeaf(const float* first, long rowFloats, int samplesU, int samplesV, do
   }
 }
 
+// The rows above and below may be another thread's, whose twists it is writing: only their dx
+// floats are read (a gather), never the twists beside them. The row's own samples are this thread's.
 template <class DD>
 HWY_INLINE void Twists(DD dd, const float* below, const float* row, const float* above, int k, double den, float* out) {
   const hn::Rebind<float, DD> df;
-  hn::Vec<decltype(df)> d, dxBelow, dxAbove, dyPrev, dyNext, skip;
-  hn::LoadInterleaved4(df, below + 4 * k, d, dxBelow, skip, skip);
-  hn::LoadInterleaved4(df, above + 4 * k, d, dxAbove, skip, skip);
+  const hn::RebindToSigned<decltype(df)> di;
+  const auto dxOf = hn::Add(hn::ShiftLeft<2>(hn::Iota(di, 0)), hn::Set(di, 1));  // sample i's dx: float 4 i + 1
+  const auto dxBelow = hn::GatherIndex(df, below + 4 * k, dxOf), dxAbove = hn::GatherIndex(df, above + 4 * k, dxOf);
+  hn::Vec<decltype(df)> d, dyPrev, dyNext, skip;
   hn::LoadInterleaved4(df, row + 4 * (k - 1), d, skip, dyPrev, skip);
   hn::LoadInterleaved4(df, row + 4 * (k + 1), d, skip, dyNext, skip);
   const auto dn = hn::Set(dd, den);
