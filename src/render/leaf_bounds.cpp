@@ -120,13 +120,16 @@ void LoadLeaf(const float* first, long rowFloats, int samplesU, int samplesV, do
 }
 
 // The rows above and below may be another thread's, whose twists it is writing: only their dx
-// floats are read (a gather), never the twists beside them. The row's own samples are this thread's.
+// floats are read, one at a time, never the twists beside them. (A gather instruction would do it;
+// QEMU 7.2's emulation of AVX2's gathers returns wrong values, and the appliance's boot test runs
+// there.) The row's own samples are this thread's.
 template <class DD>
 HWY_INLINE void Twists(DD dd, const float* below, const float* row, const float* above, int k, double den, float* out) {
   const hn::Rebind<float, DD> df;
-  const hn::RebindToSigned<decltype(df)> di;
-  const auto dxOf = hn::Add(hn::ShiftLeft<2>(hn::Iota(di, 0)), hn::Set(di, 1));  // sample i's dx: float 4 i + 1
-  const auto dxBelow = hn::GatherIndex(df, below + 4 * k, dxOf), dxAbove = hn::GatherIndex(df, above + 4 * k, dxOf);
+  const int lanes = static_cast<int>(hn::Lanes(df));  // at most 8 (CappedTag)
+  HWY_ALIGN float belowDx[8], aboveDx[8];
+  for (int l = 0; l < lanes; ++l) belowDx[l] = below[4 * (k + l) + 1], aboveDx[l] = above[4 * (k + l) + 1];
+  const auto dxBelow = hn::LoadU(df, belowDx), dxAbove = hn::LoadU(df, aboveDx);
   hn::Vec<decltype(df)> d, dyPrev, dyNext, skip;
   hn::LoadInterleaved4(df, row + 4 * (k - 1), d, skip, dyPrev, skip);
   hn::LoadInterleaved4(df, row + 4 * (k + 1), d, skip, dyNext, skip);
