@@ -216,6 +216,11 @@ class Renderer {
     std::vector<std::uint8_t> leafInside;   // per leaf: 1 when a block of it is not outside
     // Whether some block under the box (mm) is outside, or the box leaves the map.
     bool anyOutside(const Box2& xy) const;
+    // The blocks under a box (mm), inclusive; they may lie beyond the map.
+    struct Blocks {
+      int i0, j0, i1, j1;
+    };
+    Blocks under(const Box2& xy) const;
     struct Column {
       float lo, hi;
     };

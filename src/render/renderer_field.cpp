@@ -97,8 +97,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   float insideLo = std::numeric_limits<float>::infinity();  // the inside blocks' lowest bound of min(O, d)
   if (workpieceKind_ == 4) {
     const ColumnMap& c = columns_;
-    const int i0 = static_cast<int>(std::floor((xy.x0 - c.x0) * c.inv)), i1 = static_cast<int>(std::floor((xy.x1 - c.x0) * c.inv));
-    const int j0 = static_cast<int>(std::floor((xy.y0 - c.y0) * c.inv)), j1 = static_cast<int>(std::floor((xy.y1 - c.y0) * c.inv));
+    const auto [i0, j0, i1, j1] = c.under(xy);
     if ((i1 - i0 + 1) * (j1 - j0 + 1) > 16) {
       columnsOk = false;
     } else {

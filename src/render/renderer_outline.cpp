@@ -25,9 +25,13 @@ const VmProgram& Renderer::ColumnMap::tapeAt(double x, double y) const {
   return leafTape[static_cast<size_t>(j / kLeaf) * leavesX + i / kLeaf];
 }
 
+Renderer::ColumnMap::Blocks Renderer::ColumnMap::under(const Box2& xy) const {
+  return {static_cast<int>(std::floor((xy.x0 - x0) * inv)), static_cast<int>(std::floor((xy.y0 - y0) * inv)),
+          static_cast<int>(std::floor((xy.x1 - x0) * inv)), static_cast<int>(std::floor((xy.y1 - y0) * inv))};
+}
+
 const VmProgram& Renderer::ColumnMap::tapeOver(const Box2& xy) const {
-  const int i0 = static_cast<int>(std::floor((xy.x0 - x0) * inv)), i1 = static_cast<int>(std::floor((xy.x1 - x0) * inv));
-  const int j0 = static_cast<int>(std::floor((xy.y0 - y0) * inv)), j1 = static_cast<int>(std::floor((xy.y1 - y0) * inv));
+  const auto [i0, j0, i1, j1] = under(xy);
   if (i0 < 0 || j0 < 0 || i1 >= nx || j1 >= ny) return vm->program();
   if (i0 == i1 && j0 == j1)
     if (const std::int32_t b = blockTapeOf[static_cast<size_t>(j0) * nx + i0]; b >= 0) return blockTape[static_cast<size_t>(b)];
@@ -39,8 +43,7 @@ const VmProgram& Renderer::ColumnMap::tapeOver(const Box2& xy) const {
 }
 
 bool Renderer::ColumnMap::anyOutside(const Box2& xy) const {
-  const int i0 = static_cast<int>(std::floor((xy.x0 - x0) * inv)), i1 = static_cast<int>(std::floor((xy.x1 - x0) * inv));
-  const int j0 = static_cast<int>(std::floor((xy.y0 - y0) * inv)), j1 = static_cast<int>(std::floor((xy.y1 - y0) * inv));
+  const auto [i0, j0, i1, j1] = under(xy);
   if (i0 < 0 || j0 < 0 || i1 >= nx || j1 >= ny) return true;
   for (int lj = j0 / kLeaf; lj <= j1 / kLeaf; ++lj)
     for (int li = i0 / kLeaf; li <= i1 / kLeaf; ++li)
