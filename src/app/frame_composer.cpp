@@ -48,6 +48,24 @@ std::vector<Rect> mergeRects(std::vector<Rect> rects) {
   return rects;
 }
 
+std::vector<PixelSpans> mergeSpans(std::vector<PixelSpans> spans) {
+  spans.erase(std::remove_if(spans.begin(), spans.end(), [](const PixelSpans& s) { return s.empty(); }), spans.end());
+  bool merged = true;
+  while (merged) {
+    merged = false;
+    for (size_t i = 0; i < spans.size() && !merged; ++i)
+      for (size_t j = i + 1; j < spans.size() && !merged; ++j) {
+        PixelSpans u = spans[i].united(spans[j]);
+        if (static_cast<double>(u.area()) <= 1.25 * static_cast<double>(spans[i].area() + spans[j].area())) {
+          spans[i] = std::move(u);
+          spans.erase(spans.begin() + static_cast<std::ptrdiff_t>(j));
+          merged = true;
+        }
+      }
+  }
+  return spans;
+}
+
 FrameComposer::FrameComposer(ThreadPool& pool, int width, int height)
     : pool_(pool), w_(width), h_(height), frame_(width, height), rowMs_(static_cast<size_t>(std::max(height, 0)), 0.0f) {
   for (Slot& s : slots_) s.renderer = std::make_unique<Renderer>(pool_);
@@ -142,24 +160,29 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
     nextBand_ = 0;
   }
   for (size_t i : changes.ops) {
-    const Rect r = renderer_->dirtyRect(model, i);
-    if (!r.empty()) urgent_.push_back(r);
+    PixelSpans r = renderer_->dirtySpans(model, i);
+    if (!r.empty()) urgent_.push_back(std::move(r));
   }
 }
 
 double FrameComposer::renderRect(const Rect& r, std::vector<Rect>& changed, bool onPiece) {
+  return renderSpans(PixelSpans::of(r), changed, onPiece);
+}
+
+double FrameComposer::renderSpans(const PixelSpans& s, std::vector<Rect>& changed, bool onPiece) {
   RenderStats st;
   const auto t0 = std::chrono::steady_clock::now();
-  renderer_->render(frame_, r, &st);
+  renderer_->render(frame_, s, &st);
   const double ms = msSince(t0);
   counters_.render += st;
   // The dirty budget's speed is measured on what strokes change (the piece); a band's rows of
   // backdrop cost a small fraction of a row across the piece.
-  if (onPiece && ms > 0.5 && r.area() > 0) {
-    const double speed = r.area() / ms;
+  const double area = static_cast<double>(s.area());
+  if (onPiece && ms > 0.5 && area > 0) {
+    const double speed = area / ms;
     pxPerMs_ = pxPerMs_ <= 0 ? speed : 0.8 * pxPerMs_ + 0.2 * speed;
   }
-  changed.push_back(r);
+  changed.push_back(s.box);
   return ms;
 }
 
@@ -262,25 +285,26 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     changed.push_back({0, 0, w_, h_});
   }
   if (needPreview_) preview(changed);
-  const std::vector<Rect> dirty = mergeRects(std::move(urgent_));
+  const std::vector<PixelSpans> dirty = mergeSpans(std::move(urgent_));
   urgent_.clear();
   // What the visitor just did is on the screen within the frame: when tracing all of it would
   // take longer than the dirty budget at the measured speed (until a trace has measured it, everything
   // is traced exactly), the big rectangles are traced coarse now and exactly after the present.
   long area = 0;
-  for (const Rect& r : dirty) area += r.area();
+  for (const PixelSpans& r : dirty) area += r.area();
   const double speed = dirtySpeed();
   const bool tooSlow = speed > 0 && area > dirtyMs_ * speed;
   bool anyCoarse = false;
-  for (const Rect& r : dirty) {
+  for (const PixelSpans& r : dirty) {
     ++counters_.dirtyRects;
-    counters_.dirtyPixels += r.area();
+    counters_.dirtyPixels += static_cast<std::uint64_t>(r.area());
     if (tooSlow && r.area() > 0.25 * dirtyMs_ * speed) {
-      traceCoarse(r, changed);
-      coarse_.push_back(r);
+      // Shown coarse over its box now, exactly a band of the box's rows at a time next.
+      traceCoarse(r.box, changed);
+      coarse_.push_back(r.box);
       anyCoarse = true;
     } else {
-      renderRect(r, changed, true);
+      renderSpans(r, changed, true);
     }
   }
   if (anyCoarse || (dirtyAlone && !dirty.empty())) return;

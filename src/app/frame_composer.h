@@ -81,6 +81,8 @@ class FrameComposer {
   // Traces r into the frame (ms); `onPiece`: a dirty rectangle's pixels, which set the speed the
   // dirty budget is judged by.
   double renderRect(const Rect& r, std::vector<Rect>& changed, bool onPiece);
+  // The same over spans (their box is what changed).
+  double renderSpans(const PixelSpans& s, std::vector<Rect>& changed, bool onPiece);
   // Pixels a millisecond where strokes land: as dirty rectangles measured it, else as the dearest
   // row of a band did (0: nothing traced yet).
   double dirtySpeed() const { return pxPerMs_ > 0 ? pxPerMs_ : maxRowMs_ > 0 ? w_ / maxRowMs_ : 0.0; }
@@ -111,7 +113,7 @@ class FrameComposer {
   bool cameraSet_ = false;
   std::string shadingKey_;
   ShadingParams shading_{};
-  std::vector<Rect> urgent_;
+  std::vector<PixelSpans> urgent_;  // the strokes' dirty spans (Renderer::dirtySpans)
   std::vector<Rect> coarse_;  // dirty rectangles the frame shows coarse: traced exactly next
   bool needPreview_ = false;
   bool blankCopied_ = false;      // frame_ was just replaced by a remembered bare sheet
@@ -129,5 +131,7 @@ class FrameComposer {
 
 // The rectangles merged where that saves work (a union no bigger than the parts plus a quarter).
 std::vector<Rect> mergeRects(std::vector<Rect> rects);
+// Spans likewise (a union of no more pixels than the parts plus a quarter).
+std::vector<PixelSpans> mergeSpans(std::vector<PixelSpans> spans);
 
 }  // namespace emboss

@@ -180,23 +180,23 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
   row.evalsPerRay = st.meanEvaluationsPerRay();
   row.hits = static_cast<long>(st.hits);
 
-  // One more stroke, traced as the kiosk does: add, sync, the dirty rectangle only. Each is
+  // One more stroke, traced as the kiosk does: add, sync, its dirty spans only. Each is
   // undone again (timed apart) so that every stroke lands on the same piece.
   PieceRandom rng(1234);
-  // Adds op and traces its dirty rectangle (timed, into ms and px), then undoes it (into undoMs).
+  // Adds op and traces its dirty spans (timed, into ms and px), then undoes it (into undoMs).
   auto stroke = [&](const Operation& op, std::vector<double>& ms, double& px, std::vector<double>& undoMs) {
     auto t = Clock::now();
     (void)model.add(op);
     r.sync(model);
-    Rect rect = r.dirtyRect(model, model.activeCount() - 1);
-    r.render(image, rect);
+    PixelSpans dirty = r.dirtySpans(model, model.activeCount() - 1);
+    r.render(image, dirty);
     ms.push_back(msSince(t));
-    px += rect.area();
+    px += static_cast<double>(dirty.area());
     t = Clock::now();
     model.undo();
     r.sync(model);
-    rect = r.dirtyRect(model, model.activeCount());
-    r.render(image, rect);
+    dirty = r.dirtySpans(model, model.activeCount());
+    r.render(image, dirty);
     undoMs.push_back(msSince(t));
   };
   std::vector<double> punch, segment, undo;
@@ -263,7 +263,7 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
          fmt("%.0f", r.naiveFullEstimateMs) + " | " + fmt("%.0f", ratio) + "x | " + fmt("%.0f", r.rendererMb) + " |\n";
   }
   t += "\nbuild: the first sync (index and displacement field). full frame: wall time of renderFull(). CPU: process CPU time "
-       "per frame; trace + shade: thread time summed over tiles. punch / segment update: add + sync + dirty rectangle "
+       "per frame; trace + shade: thread time summed over tiles. punch / segment update: add + sync + dirty spans (dirtySpans()) "
        "traced, wall time (mean pixels traced: ";
   for (const Row& r : rows) t += r.piece + " " + fmt("%.0f", r.punchPixels) + " / " + fmt("%.0f", r.segmentPixels) + "; ";
   t += "). region update: the same for a raised region of 24 to 48 points, 6 to 14 mm in radius (the field under it "

@@ -169,7 +169,7 @@ int Commands::render() {
       t0 = std::chrono::steady_clock::now();
       live.add(model->operations()[i].op());
       renderer.sync(live);
-      const Rect r = renderer.dirtyRect(live, i);
+      const PixelSpans r = renderer.dirtySpans(live, i);
       renderer.render(image, r, &stats);
       const double ms = msSince(t0);
       sum += ms;

@@ -531,6 +531,42 @@ T PreparedOp::combine(const T& f, const P3<T>& p) const {
   return f + w * (result - f);
 }
 
+PreparedOp::SupportPieces PreparedOp::supportPieces() const {
+  SupportPieces s;
+  s.radius = kSupportSpan * length_;
+  const auto& pts = op_.points;
+  // Each segment of the path a piece (one point alone: itself).
+  auto segments = [&](const std::vector<Vec2>& path) {
+    if (path.size() == 1) s.pieces.push_back({path[0]});
+    for (size_t i = 0; i + 1 < path.size(); ++i) s.pieces.push_back({path[i], path[i + 1]});
+  };
+  switch (op_.kind) {
+    case OpKind::Trace:
+      segments(pts);
+      for (const Joint& k : joints_)
+        if (k.on) s.pieces.push_back({k.e0, k.e1});
+      break;
+    case OpKind::Punch:
+      s.pieces.push_back({Vec2{op_.at.x, op_.at.y}});
+      break;
+    case OpKind::Press:
+      segments(pts);  // the punches lie on the path
+      break;
+    case OpKind::Region:
+      s.pieces.push_back(pts);  // the hull of the contour holds what it encloses
+      break;
+    case OpKind::Patina:
+      s.radius = op_.a;
+      segments(pts);
+      break;
+    default:
+      s.radius = 0.0;
+      s.pieces.push_back({{support_.x0, support_.y0}, {support_.x1, support_.y0}, {support_.x1, support_.y1}, {support_.x0, support_.y1}});
+      break;
+  }
+  return s;
+}
+
 double PreparedOp::patinaAt(double x, double y) const {
   if (op_.kind != OpKind::Patina || !support_.contains(x, y)) return 0.0;
   const double d2 = polylineDistance2(x, y, op_.points, false);

@@ -99,6 +99,16 @@ class PreparedOp {
   // The support in the plate's plane: outside this rectangle the operation changes nothing,
   // exactly (for every z). Culling by it is exact.
   const Box2& support() const { return support_; }
+  // The support as convex pieces: every point where the operation changes anything lies within
+  // `radius` of the convex hull of one piece's points (a punch: its centre; a traced line, a
+  // press, a patina stroke: each segment of its path; a region: its whole contour; a set
+  // operation: its tool's box). support() is the box of their union. Far tighter than the box
+  // for a round punch or a diagonal line: what a dirty update traces.
+  struct SupportPieces {
+    double radius = 0.0;
+    std::vector<std::vector<Vec2>> pieces;
+  };
+  SupportPieces supportPieces() const;
   // The signed offset (positive toward the viewer) at p. Offset kinds only.
   template <class T>
   T offset(const P3<T>& p, Deformation model) const;

@@ -162,17 +162,23 @@ std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, c
 }
 
 bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, const std::atomic_bool* cancel) {
+  return render(image, PixelSpans::of(grownWithin(rectIn, 0, camera_->width(), camera_->height())), stats, cancel);
+}
+
+bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stats, const std::atomic_bool* cancel) {
   const int w = camera_->width(), h = camera_->height();
   if (image.width != w || image.height != h) image = Image(w, h);
-  const Rect rect = grownWithin(rectIn, 0, w, h);
-  if (rect.empty()) return true;
+  const PixelSpans spans = spansIn.grown(0, w, h);  // clipped to the image
+  if (spans.empty()) return true;
+  const Rect rect = spans.box;
   const bool field = usesField();
-  // Two passes. The first traces one ray through the centre of every pixel of the rectangle and
-  // of the ring of pixels around it; the second writes the rectangle's pixels, each from its own
+  // Two passes. The first traces one ray through the centre of every pixel of the spans and of
+  // the ring of pixels around them; the second writes the spans' pixels, each from its own
   // centre sample, or, where it differs from a neighbour's (an edge: the sheet against the
   // backdrop, a crease), from two more rays inside it. A pixel's bytes so depend on its own and
   // its four neighbours' rays only: dirtyRect() grows by one pixel for it.
-  const Rect ring = grownWithin(rect, 1, w, h);
+  const PixelSpans ringSpans = spans.grown(1, w, h);
+  const Rect ring = ringSpans.box;
   // Per pixel of the ring: the centre sample's linear colour and its normal (zero: no hit).
   std::vector<glm::vec3> centre(static_cast<size_t>(ring.w) * ring.h), normal(centre.size());
   // Whether the centre ray hit (derivable from the normal, but a byte the second pass reads four
@@ -187,9 +193,9 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
   std::atomic_bool aborted{false};
   // One pass: `pixel` over every pixel of `area` on the pool, its wall time per tile summed into
   // the stats' `seconds`. A superseded frame stops within a row.
-  auto pass = [&](const Rect& area, double RenderStats::*seconds, const auto& pixel) {
+  auto pass = [&](const PixelSpans& area, double RenderStats::*seconds, const auto& pixel) {
     using Clock = std::chrono::steady_clock;
-    return pool_.parallelFor2D(area, tileSize, [&](const Rect& tile) {
+    return pool_.parallelFor2D(area.box, tileSize, [&](const Rect& tile) {
       thread_local std::vector<std::uint32_t> scratch;
       RenderStats st;
       const auto start = Clock::now();
@@ -198,7 +204,9 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
           aborted = true;
           return;
         }
-        for (int x = tile.x; x < tile.x + tile.w; ++x) pixel(x, y, st, scratch);
+        const PixelSpans::Span row = area.row(y);
+        const int x1 = std::min(tile.x + tile.w, row.x1);
+        for (int x = std::max(tile.x, row.x0); x < x1; ++x) pixel(x, y, st, scratch);
       }
       st.*seconds = std::chrono::duration<double>(Clock::now() - start).count();
       std::lock_guard lock(statsMutex);
@@ -210,12 +218,12 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
   const Rect reach = options_.cullOutsideClip ? projectBox(field ? fieldClip_ : bounds_) : Rect{0, 0, w, h};
   if (field) updateOutlineMask();
   // A miss's centre colour (the backdrop) is only needed on an edge: found there.
-  const bool traced = pass(ring, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
+  const bool traced = pass(ringSpans, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     const size_t i = at(x, y);
     if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i])) centre[i] = glm::vec3(*c), hits[i] = 1;
   });
   if (!traced) return false;
-  return pass(rect, &RenderStats::shadeSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
+  return pass(spans, &RenderStats::shadeSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     const size_t i = at(x, y);
     const bool hit = hits[i] != 0;
     bool edge = false;
@@ -268,13 +276,12 @@ Rect Renderer::projectBox(const Box3& b) const {
   return {cx0, cy0, cx1 - cx0, cy1 - cy0};
 }
 
-Rect Renderer::dirtyRect(const Model& model, size_t index) const {
+PixelSpans Renderer::dirtySpans(const Model& model, size_t index) const {
   // A pixel reads its four neighbours' rays (render()): one pixel more each way.
-  const Rect r = dirtyRectOfRays(model, index);
-  return r.empty() ? r : grownWithin(r, 1, camera_->width(), camera_->height());
+  return dirtySpansOfRays(model, index).grown(1, camera_->width(), camera_->height());
 }
 
-Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {
+PixelSpans Renderer::dirtySpansOfRays(const Model& model, size_t index) const {
   if (index >= model.operations().size()) return {};
   const auto& ops = model.operations();
   const PreparedOp& op = ops[index];
@@ -299,7 +306,7 @@ Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {
     }
     const Box2 s = op.support().grown(g);
     box.x0 = s.x0, box.y0 = s.y0, box.x1 = s.x1, box.y1 = s.y1;
-    return projectBox(box);
+    return PixelSpans::of(projectBox(box));
   }
 
   // The field tracer. A pixel's result depends on the signs of f at its ray's grid points, on f
@@ -313,13 +320,14 @@ Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {
     const Box3 t = op.op().tool.bounds();
     const double r = kernels::kSupportSpan * op.op().tool.size() + shift + cell;
     const Box2 s = op.support().grown(cell);
-    return projectBox({s.x0, s.y0, t.z0 - r, s.x1, s.y1, t.z1 + r});
+    return PixelSpans::of(projectBox({s.x0, s.y0, t.z0 - r, s.x1, s.y1, t.z1 + r}));
   }
   // An offset changes the samples under its support, and through the Hermite stencil (the
   // twists read the neighbours' slopes) the patches up to two samples further. A patina stroke
   // changes the colour of the hits under its support only (its peak is 0): the same box serves.
   // The shading reads D within kCavityReach of a hit (the cavity term).
-  const Box2 s = op.support().grown(2.0 * field_.spacing() + cell + kCavityReach);
+  const double grow = 2.0 * field_.spacing() + cell + kCavityReach;
+  const Box2 s = op.support().grown(grow);
   const double peak = peakOf(op.op());
   HeightField::Bound d = field_.rootBound();
   const Box2 dom = field_.domain();
@@ -329,7 +337,31 @@ Rect Renderer::dirtyRectOfRays(const Model& model, size_t index) const {
   Box3 box{s.x0, s.y0, wb.z0 + d.lo - peak - cell, s.x1, s.y1, wb.z1 + d.hi + peak + cell};
   for (const SetOp& so : setOps_)
     if (so.support.overlaps(s)) box.z0 = std::min(box.z0, so.zlo - peak - cell), box.z1 = std::max(box.z1, so.zhi + peak + cell);
-  return projectBox(box);
+
+  // The same growth around the support's convex pieces instead of its box: each piece's points
+  // ringed by a polygon round a circle of the support's radius plus the growth (the field's
+  // stencil reaches 2 spacings along x and y at once: its diagonal), at the box's lowest and
+  // highest z, projected; the pixels near the hull of each.
+  const auto pieces = op.supportPieces();
+  constexpr int kSides = 16;
+  const double radius = (pieces.radius + 2.0 * std::sqrt(2.0) * field_.spacing() + cell + kCavityReach) /
+                        std::cos(std::numbers::pi / kSides);  // the polygon holds the circle
+  SpanBuilder spans(camera_->width(), camera_->height());
+  std::vector<glm::dvec2> projected;
+  for (const auto& piece : pieces.pieces) {
+    projected.clear();
+    for (const Vec2& c : piece)
+      for (int k = 0; k < kSides; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / kSides;
+        for (double z : {box.z0, box.z1}) {
+          const auto p = camera_->project({c.x + radius * std::cos(a), c.y + radius * std::sin(a), z});
+          if (!p) return PixelSpans::of(projectBox(box));
+          projected.push_back(*p);
+        }
+      }
+    spans.addHullOf(projected);
+  }
+  return spans.take();
 }
 
 

@@ -14,6 +14,7 @@
 #include "render/camera.h"
 #include "render/height_field.h"
 #include "render/image.h"
+#include "render/pixel_spans.h"
 #include "render/shading.h"
 #include "render/thread_pool.h"
 
@@ -85,13 +86,19 @@ class Renderer {
   // (the pixels of `rect` are then partly old); a frame superseded by a newer one is cancelled by
   // setting `cancel` from any thread.
   bool render(Image& image, const Rect& rect, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
+  // The same over the pixels of `spans` (a dirty update's, dirtySpans()).
+  bool render(Image& image, const PixelSpans& spans, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
   bool renderFull(Image& image, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
 
   // The pixels whose rays can see a change made by operation `index` of the model (just appended,
   // or just undone): the projection of the 3D box where f can change sign or where a hit's
   // neighbourhood (its normal, its cavity term) can change, grown by one ray cell, and by one
   // pixel for the anti-aliasing. Call after sync().
-  Rect dirtyRect(const Model& model, size_t index) const;
+  Rect dirtyRect(const Model& model, size_t index) const { return dirtySpans(model, index).box; }
+  // The same pixels row by row: for a stroke (an offset or a patina stroke on the field tracer)
+  // the projection of its support's convex pieces (PreparedOp::supportPieces) rather than of its
+  // box; a round punch's is about three quarters of its rectangle, a diagonal line's much less.
+  PixelSpans dirtySpans(const Model& model, size_t index) const;
 
   const OpGrid& grid() const { return grid_; }
   const HeightField& field() const { return field_; }
@@ -147,8 +154,8 @@ class Renderer {
   // The same, the backdrop where it misses.
   glm::dvec3 sample(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
                     std::vector<std::uint32_t>& scratch) const;
-  // dirtyRect() before the anti-aliasing's one pixel.
-  Rect dirtyRectOfRays(const Model& model, size_t index) const;
+  // dirtySpans() before the anti-aliasing's one pixel.
+  PixelSpans dirtySpansOfRays(const Model& model, size_t index) const;
   template <class T>
   T exactDisplacement(const P3<T>& p, std::span<const std::uint32_t> candidates, RenderStats& st) const;
   double fieldValue(const RayContext& rc, const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch,

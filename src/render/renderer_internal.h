@@ -11,6 +11,7 @@
 #include <functional>
 #include <mutex>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <type_traits>
 

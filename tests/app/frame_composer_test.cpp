@@ -2,6 +2,8 @@
 // refinement bands, the finished frame equals one full render.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <cstdlib>
 
 #include "app/frame_composer.h"
@@ -270,6 +272,30 @@ TEST(FrameComposer, MergesOverlappingRectangles) {
   ASSERT_EQ(r.size(), 2u);
   EXPECT_EQ(r[0].w, 15);
   EXPECT_EQ(r[1].x, 100);
+}
+
+TEST(FrameComposer, MergesSpansWhereThatTracesLittleMore) {
+  // Two overlapping round spans become one; a far one stays apart; the merged spans hold both and
+  // no row wider than the two spans' hull.
+  auto disc = [](int cx, int cy, int r) {
+    PixelSpans s;
+    s.box = {cx - r, cy - r, 2 * r + 1, 2 * r + 1};
+    for (int y = -r; y <= r; ++y) {
+      const int half = static_cast<int>(std::sqrt(static_cast<double>(r * r - y * y)));
+      s.rows.push_back({cx - half, cx + half + 1});
+    }
+    return s;
+  };
+  const PixelSpans a = disc(50, 50, 20), b = disc(60, 55, 20), far = disc(300, 50, 20);
+  const auto m = mergeSpans({a, b, far, PixelSpans{}});
+  ASSERT_EQ(m.size(), 2u);
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 100; ++x)
+      if (a.contains(x, y) || b.contains(x, y)) ASSERT_TRUE(m[0].contains(x, y)) << x << "," << y;
+  EXPECT_LT(m[0].area(), m[0].box.area());
+  EXPECT_EQ(m[1].box.x, far.box.x);
+  // Side by side in the same rows far apart: merging would trace the gap, so they stay two.
+  EXPECT_EQ(mergeSpans({disc(50, 50, 10), disc(200, 50, 10)}).size(), 2u);
 }
 
 }  // namespace

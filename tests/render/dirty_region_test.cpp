@@ -140,7 +140,7 @@ void runCase(const Case& c) {
     }
     SCOPED_TRACE("step " + std::to_string(step) + ": " + what + " (operation " + std::to_string(index) + ")");
     live.sync(model);
-    const Rect dirty = live.dirtyRect(model, index);
+    const PixelSpans dirty = live.dirtySpans(model, index);
     ASSERT_TRUE(live.render(image, dirty));
     dirtyPixels += dirty.area();
     framePixels += c.width * c.height;
@@ -157,9 +157,9 @@ void runCase(const Case& c) {
     Image reference;
     full.renderFull(reference);
     const std::string diff = firstDifference(image, reference);
-    ASSERT_TRUE(diff.empty()) << diff << "; dirty rect " << dirty.x << "," << dirty.y << " " << dirty.w << "x" << dirty.h;
+    ASSERT_TRUE(diff.empty()) << diff << "; dirty spans' box " << dirty.box.x << "," << dirty.box.y << " " << dirty.box.w << "x" << dirty.box.h;
   }
-  // The dirty rectangles must be a real saving, not the whole frame.
+  // The dirty spans must be a real saving, not the whole frame.
   EXPECT_LT(dirtyPixels, framePixels * 3 / 4);
 }
 
@@ -169,6 +169,51 @@ TEST(DirtyRegion, OffsetPlateEqualsFullRender) { runCase({PieceShape::Plate, Def
 TEST(DirtyRegion, OffsetDiscEqualsFullRender) { runCase({PieceShape::Disc, Deformation::Offset, false, 64, 48, 14, 4}); }
 TEST(DirtyRegion, SheetVmOutlineEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Sheet, false, 96, 64, 20, 6, true}); }
 TEST(DirtyRegion, SheetExactTracerEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Sheet, true, 72, 48, 12, 5}); }
+
+// A stroke's dirty spans at a kiosk's size: every pixel the stroke changes lies in them, and they
+// are the projection of its support's pieces, not of its box (a round punch, a diagonal line,
+// a raised region, a patina stroke), seen from above and at a slant.
+TEST(DirtyRegion, AStrokesSpansHoldWhatItChangesAndLessThanItsRectangle) {
+  const GeneratedPiece piece = generatePiece(60, 21, PieceOptions{PieceShape::Plate, 60.0, 40.0, 0.4, Deformation::Sheet, 1.0});
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  ThreadPool pool(2);
+  for (int view = 0; view < 2; ++view) {
+    CameraSpec spec = piece.camera;
+    if (view == 1) spec.eye = {25, -45, 40};
+    const Camera camera(spec, 480, 300);
+    Renderer r(pool);
+    r.setCamera(camera);
+    r.setShading(shading(*model));
+    r.sync(*model);
+    Image before;
+    ASSERT_TRUE(r.renderFull(before));
+    PieceRandom rng(5 + view);
+    long spanPixels = 0, boxPixels = 0;
+    for (int k = 0; k < 8; ++k) {
+      Operation op = k % 4 == 0 ? randomPunch(rng, piece) : k % 4 == 1 ? randomTraceSegment(rng, piece) : k % 4 == 2 ? randomRegion(rng, piece, 0.5) : randomTraceSegment(rng, piece);
+      if (k % 4 == 3) op.kind = OpKind::Patina, op.tinge = 2, op.a = 2.0, op.strength = 0.8;
+      SCOPED_TRACE("view " + std::to_string(view) + ", stroke " + std::to_string(k) + " (" + opKindName(op.kind) + ")");
+      ASSERT_TRUE(model->add(op).ok());
+      r.sync(*model);
+      const PixelSpans dirty = r.dirtySpans(*model, model->activeCount() - 1);
+      Image after;
+      ASSERT_TRUE(r.renderFull(after));
+      int changed = 0;
+      for (int y = 0; y < after.height; ++y)
+        for (int x = 0; x < after.width; ++x)
+          if (std::memcmp(after.pixel(x, y), before.pixel(x, y), 4) != 0) {
+            ++changed;
+            ASSERT_TRUE(dirty.contains(x, y)) << "pixel (" << x << ", " << y << ") changed outside the spans";
+          }
+      EXPECT_GT(changed, 0);
+      spanPixels += dirty.area(), boxPixels += dirty.box.area();
+      model->undo();
+      r.sync(*model);
+    }
+    EXPECT_LT(spanPixels, boxPixels * 85 / 100) << "view " << view;
+  }
+}
 
 // Longer runs, more seeds and larger pictures.
 // Pixels outside the projection of the clip box are taken as misses without a ray: the picture

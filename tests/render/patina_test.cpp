@@ -122,7 +122,7 @@ TEST(Patina, UndoTakesItAwayExactly) {
   ASSERT_TRUE(model->add(scene->operations[1]).ok());
   r.sync(*model);
   Image image = before;
-  const Rect dirty = r.dirtyRect(*model, 1);
+  const PixelSpans dirty = r.dirtySpans(*model, 1);
   EXPECT_GT(dirty.area(), 0);
   EXPECT_LT(dirty.area(), 160 * 100);
   ASSERT_TRUE(r.render(image, dirty));
@@ -133,7 +133,7 @@ TEST(Patina, UndoTakesItAwayExactly) {
 
   ASSERT_TRUE(model->undo());
   r.sync(*model);
-  ASSERT_TRUE(r.render(image, r.dirtyRect(*model, 1)));
+  ASSERT_TRUE(r.render(image, r.dirtySpans(*model, 1)));
   for (int y = 0; y < 100; ++y)
     for (int x = 0; x < 160; ++x)
       for (int k = 0; k < 4; ++k) ASSERT_EQ(image.pixel(x, y)[k], before.pixel(x, y)[k]) << x << "," << y;
