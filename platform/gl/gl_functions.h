@@ -55,6 +55,7 @@ struct GlFunctions {
   X(PFNGLLINKPROGRAMPROC, LinkProgram)                                     \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                                     \
   X(PFNGLREADPIXELSPROC, ReadPixels)                                       \
+  X(PFNGLSCISSORPROC, Scissor)                                             \
   X(PFNGLSHADERSOURCEPROC, ShaderSource)                                   \
   X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                       \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                 \

@@ -136,6 +136,8 @@ struct GlPresenter::Impl {
   GLuint frameTexture = 0;
   int textureWidth = 0, textureHeight = 0;
   bool haveFrame = false;
+  bool lastUploadWhole = false;  // the last uploadFrame() sent the whole frame
+  bool drawnOnce = false;        // the offscreen target holds a whole drawn frame
   GLuint atlasTexture = 0;
   GLuint targetFbo = 0, targetTexture = 0;      // offscreen target
   GLuint snapshotFbo = 0, snapshotTexture = 0;  // screenshot() of an on-screen target
@@ -152,7 +154,10 @@ struct GlPresenter::Impl {
   Result<GLuint> buildProgram(const char* name, const char* vertex, const char* fragment);
   Result<GLuint> createTargetTexture(GLuint* fbo);
   bool uploadFrame(const Image& frame, std::span<const Rect> dirty);
-  void drawScene(GLuint fbo);
+  // Draws the frame and the overlay into fbo, within `areas` only (image pixels, top-down rows)
+  // when given, everywhere when not.
+  void drawScene(GLuint fbo, const std::vector<Rect>* areas = nullptr);
+  void drawLayers();
   void drawShapes();
   void drawTexts();
   void drawGlyphs(const std::vector<float>& glyphVertices);
@@ -335,6 +340,7 @@ bool GlPresenter::Impl::uploadFrame(const Image& frame, std::span<const Rect> di
   gl.BindTexture(GL_TEXTURE_2D, frameTexture);
   gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
   const bool sizeChanged = frame.width != textureWidth || frame.height != textureHeight;
+  lastUploadWhole = !haveFrame || sizeChanged;
   if (!haveFrame || sizeChanged) {
     gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, frame.width, frame.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                   frame.rgba.data());
@@ -453,9 +459,25 @@ void GlPresenter::Impl::drawTexts() {
   drawGlyphs(vertices);
 }
 
-void GlPresenter::Impl::drawScene(GLuint fbo) {
+void GlPresenter::Impl::drawScene(GLuint fbo, const std::vector<Rect>* areas) {
   gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
   gl.Viewport(0, 0, width, height);
+  if (!areas) {
+    drawLayers();
+    stats.drawnPixels += static_cast<std::uint64_t>(width) * height;
+    return;
+  }
+  // Each area on its own: what lies outside them is what the target holds already.
+  gl.Enable(GL_SCISSOR_TEST);
+  for (const Rect& r : *areas) {
+    gl.Scissor(r.x, height - (r.y + r.h), r.w, r.h);  // GL's rows run bottom up
+    drawLayers();
+    stats.drawnPixels += static_cast<std::uint64_t>(r.w) * r.h;
+  }
+  gl.Disable(GL_SCISSOR_TEST);
+}
+
+void GlPresenter::Impl::drawLayers() {
   gl.Disable(GL_BLEND);
   if (!haveFrame) {
     gl.ClearColor(0, 0, 0, 1);
@@ -483,6 +505,90 @@ void GlPresenter::Impl::drawScene(GLuint fbo) {
   for (GLuint a : {kPos, kAux, kShape, kColor}) gl.DisableVertexAttribArray(a);
   gl.BindBuffer(GL_ARRAY_BUFFER, 0);
 }
+
+namespace {
+
+Rect unite(const Rect& a, const Rect& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  const int x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
+  const int x1 = std::max(a.x + a.w, b.x + b.w), y1 = std::max(a.y + a.h, b.y + b.h);
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+// The pixels a shape's quad covers (its antialiased margin and a pixel of rounding included).
+Rect boxOf(float x0, float y0, float x1, float y1) {
+  if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1)) return {-1 << 20, -1 << 20, 1 << 21, 1 << 21};
+  const float m = kAaMargin + 1.0f;
+  const int a = static_cast<int>(std::floor(std::max(x0 - m, -1e6f))), b = static_cast<int>(std::floor(std::max(y0 - m, -1e6f)));
+  const int c = static_cast<int>(std::ceil(std::min(x1 + m, 1e6f))), d = static_cast<int>(std::ceil(std::min(y1 + m, 1e6f)));
+  return {a, b, c - a, d - b};
+}
+Rect boxOf(const OverlayRect& r) { return boxOf(r.x, r.y, r.x + std::max(r.w, 0.0f), r.y + std::max(r.h, 0.0f)); }
+Rect boxOf(const OverlayRing& g) {
+  const float e = g.r + g.thickness / 2;
+  return boxOf(g.cx - e, g.cy - e, g.cx + e, g.cy + e);
+}
+bool same(const OverlayColor& a, const OverlayColor& b) { return a.r == b.r && a.g == b.g && a.b == b.b && a.a == b.a; }
+bool same(const OverlayRect& a, const OverlayRect& b) {
+  return a.x == b.x && a.y == b.y && a.w == b.w && a.h == b.h && a.radius == b.radius && same(a.color, b.color);
+}
+bool same(const OverlayRing& a, const OverlayRing& b) {
+  return a.cx == b.cx && a.cy == b.cy && a.r == b.r && a.thickness == b.thickness && same(a.color, b.color);
+}
+bool same(const OverlayText& a, const OverlayText& b) {
+  return a.x == b.x && a.y == b.y && a.size == b.size && a.text == b.text && same(a.color, b.color);
+}
+
+// Where the overlay changed from `was` to `now`: the old and the new places of every shape that
+// differs (position in the list); false when a text changed (redraw everything: its glyphs' boxes
+// are the atlas's to know).
+template <class T>
+void shapeDamage(const std::vector<T>& was, const std::vector<T>& now, std::vector<Rect>& out) {
+  for (size_t i = 0; i < std::max(was.size(), now.size()); ++i) {
+    if (i < was.size() && i < now.size() && same(was[i], now[i])) continue;
+    if (i < was.size()) out.push_back(boxOf(was[i]));
+    if (i < now.size()) out.push_back(boxOf(now[i]));
+  }
+}
+bool overlayDamage(const Overlay& was, const Overlay& now, std::vector<Rect>& out) {
+  if (was.texts.size() != now.texts.size()) return false;
+  for (size_t i = 0; i < now.texts.size(); ++i)
+    if (!same(was.texts[i], now.texts[i])) return false;
+  shapeDamage(was.rects, now.rects, out);
+  shapeDamage(was.rings, now.rings, out);
+  return true;
+}
+
+// The areas clipped to the screen, overlapping ones united until none overlaps; more than a
+// handful become their hull (each area is one more pass over the layers).
+std::vector<Rect> tidy(std::vector<Rect> areas, int width, int height) {
+  std::vector<Rect> out;
+  for (Rect r : areas) {
+    const int x0 = std::max(r.x, 0), y0 = std::max(r.y, 0);
+    const int x1 = std::min(r.x + std::max(r.w, 0), width), y1 = std::min(r.y + std::max(r.h, 0), height);
+    if (x1 > x0 && y1 > y0) out.push_back({x0, y0, x1 - x0, y1 - y0});
+  }
+  auto overlap = [](const Rect& a, const Rect& b) { return a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h; };
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < out.size() && !merged; ++i)
+      for (size_t j = i + 1; j < out.size() && !merged; ++j)
+        if (overlap(out[i], out[j])) {
+          out[i] = unite(out[i], out[j]);
+          out.erase(out.begin() + static_cast<std::ptrdiff_t>(j));
+          merged = true;
+        }
+  }
+  if (out.size() > 8) {
+    Rect all;
+    for (const Rect& r : out) all = unite(all, r);
+    out = {all};
+  }
+  return out;
+}
+
+}  // namespace
 
 // ---- GlPresenter
 
@@ -517,8 +623,24 @@ bool GlPresenter::draw(const Image& frame, std::span<const Rect> dirty, const Ov
     return false;
   }
   m.uploadFrame(frame, dirty);
+  // An offscreen target we own keeps its pixels: after a whole first frame, only the damage is
+  // drawn again (a window's back buffer is undefined after a swap: drawn whole every time). The
+  // same pixels as a whole redraw: every pixel drawn is drawn from the frame and the whole overlay.
+  std::vector<Rect> areas;
+  bool partial = m.offscreen && m.drawnOnce && !m.lastUploadWhole && frame.width == m.width && frame.height == m.height &&
+                 overlayDamage(m.overlay, overlay, areas);
+  if (partial) {
+    areas.insert(areas.end(), dirty.begin(), dirty.end());
+    areas = tidy(std::move(areas), m.width, m.height);
+  }
   m.overlay = overlay;
-  m.drawScene(m.offscreen ? m.targetFbo : 0);
+  if (partial) {
+    ++m.stats.partialFrames;
+    if (!areas.empty()) m.drawScene(m.targetFbo, &areas);
+  } else {
+    m.drawScene(m.offscreen ? m.targetFbo : 0);
+    m.drawnOnce = m.offscreen;
+  }
   m.gl.Flush();
   ++m.stats.frames;
   if (const GLenum error = m.gl.GetError(); error != GL_NO_ERROR) {

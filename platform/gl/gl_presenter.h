@@ -26,6 +26,10 @@ struct GlPresenterStats {
   std::uint64_t fullUploads = 0;     // the whole frame (first frame, size change)
   std::uint64_t rectUploads = 0;     // glTexSubImage2D calls for dirty rectangles
   std::uint64_t uploadedPixels = 0;  // pixels sent to the texture, full uploads included
+  // Offscreen targets keep what was drawn: a frame draws again only its damage (the dirty
+  // rectangles and the overlay's shapes that moved or changed, old and new places).
+  std::uint64_t drawnPixels = 0;     // pixels drawn again, over all frames
+  std::uint64_t partialFrames = 0;   // frames drawn only where they changed (none: nothing changed)
 };
 
 // Needs its context current for every call, destruction included. Not thread-safe.

@@ -326,6 +326,62 @@ TEST(GlPresenterUploads, SendsOnlyTheDirtyPixels) {
   }
 }
 
+// An offscreen target keeps its pixels: after the first frame only the damage is drawn again (the
+// dirty rectangles, the old and new places of the shapes that changed), and the picture is the
+// one a fresh presenter draws whole, pixel for pixel.
+TEST(GlPresenterUploads, DrawsAgainOnlyWhatChangedWithTheSamePixels) {
+  if (!hasEglExtension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless")) GTEST_SKIP() << "no Mesa surfaceless EGL";
+  auto session = EglSession::open(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "test");
+  ASSERT_TRUE(session.ok()) << session.error();
+  ASSERT_TRUE((*session)->createContext(EGL_PBUFFER_BIT).ok());
+  ASSERT_TRUE((*session)->makeCurrent());
+  auto a = GlPresenter::create((*session)->procLoader(), GlFlavor::kGles2, kW, kH, true);
+  ASSERT_TRUE(a.ok()) << a.error();
+  GlPresenter& p = **a;
+  const long screen = static_cast<long>(kW) * kH;
+  Image frame = patternFrame(kW, kH);
+  Overlay overlay;
+  overlay.rects.push_back({10, 10, 60, 20, {0.1f, 0.2f, 0.9f, 0.8f}, 6});  // a panel that stays
+  overlay.rects.push_back({kW - 20.0f, 40, 8, 100, {1, 1, 1, 0.9f}, 4});    // a bar that grows
+  overlay.rings.push_back({100, 100, 12, 3, {1, 0.6f, 0.1f, 1}});           // the pen's ring
+  overlay.texts.push_back({20, kH - 40.0f, 14, "Copper", {1, 1, 1, 1}});
+  ASSERT_TRUE(p.draw(frame, {}, overlay));
+  EXPECT_EQ(static_cast<long>(p.stats().drawnPixels), screen);
+
+  // The ring moves, the bar grows, a rectangle of the frame changes.
+  overlay.rings[0].cx = 140, overlay.rings[0].cy = 90;
+  overlay.rects[1].h = 120;
+  const Rect changed{150, 150, 30, 20};
+  for (int y = changed.y; y < changed.y + changed.h; ++y)
+    for (int x = changed.x; x < changed.x + changed.w; ++x) frame.pixel(x, y)[0] = 255, frame.pixel(x, y)[1] = 0;
+  const std::vector<Rect> dirty{changed};
+  ASSERT_TRUE(p.draw(frame, dirty, overlay));
+  const long second = static_cast<long>(p.stats().drawnPixels) - screen;
+  EXPECT_GT(second, 30 * 20);
+  EXPECT_LT(second, screen / 5) << "only the damage is drawn again";
+  EXPECT_EQ(p.stats().partialFrames, 1u);
+
+  // Nothing changed: nothing is drawn.
+  const auto before = p.stats().drawnPixels;
+  ASSERT_TRUE(p.draw(frame, {}, overlay));
+  EXPECT_EQ(p.stats().drawnPixels, before);
+  const Image shot = p.screenshot();
+
+  // The same picture drawn whole by a fresh presenter.
+  auto b = GlPresenter::create((*session)->procLoader(), GlFlavor::kGles2, kW, kH, true);
+  ASSERT_TRUE(b.ok()) << b.error();
+  ASSERT_TRUE((*b)->draw(frame, {}, overlay));
+  const Image whole = (*b)->screenshot();
+  std::string where;
+  EXPECT_EQ(differencesOutside(shot, whole, {}, &where), 0) << where;
+
+  // A text that changes redraws everything.
+  overlay.texts[0].text = "Brass";
+  const auto beforeText = p.stats().drawnPixels;
+  ASSERT_TRUE(p.draw(frame, {}, overlay));
+  EXPECT_EQ(static_cast<long>(p.stats().drawnPixels - beforeText), screen);
+}
+
 // ---- text layout without GL
 
 TEST(GlyphAtlasLayout, PutsTheTopOfCapitalsAtYAndTheBaselineAtYPlusSize) {
