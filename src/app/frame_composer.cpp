@@ -30,40 +30,35 @@ std::string cameraKey(const CameraSpec& c) {
 
 }  // namespace
 
-std::vector<Rect> mergeRects(std::vector<Rect> rects) {
-  rects.erase(std::remove_if(rects.begin(), rects.end(), [](const Rect& r) { return r.empty(); }), rects.end());
+namespace {
+
+// Pairs merged while their union holds at most a quarter more pixels than the two: rectangles or
+// spans (united by `unite`, counted by `area`); empty ones dropped.
+template <class T, class Unite>
+std::vector<T> mergeWhereCheap(std::vector<T> items, Unite unite) {
+  items.erase(std::remove_if(items.begin(), items.end(), [](const T& r) { return r.empty(); }), items.end());
   bool merged = true;
   while (merged) {
     merged = false;
-    for (size_t i = 0; i < rects.size() && !merged; ++i)
-      for (size_t j = i + 1; j < rects.size() && !merged; ++j) {
-        const Rect u = unite(rects[i], rects[j]);
-        if (static_cast<double>(u.area()) <= 1.25 * (rects[i].area() + rects[j].area())) {
-          rects[i] = u;
-          rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(j));
+    for (size_t i = 0; i < items.size() && !merged; ++i)
+      for (size_t j = i + 1; j < items.size() && !merged; ++j) {
+        T u = unite(items[i], items[j]);
+        if (static_cast<double>(u.area()) <= 1.25 * static_cast<double>(items[i].area() + items[j].area())) {
+          items[i] = std::move(u);
+          items.erase(items.begin() + static_cast<std::ptrdiff_t>(j));
           merged = true;
         }
       }
   }
-  return rects;
+  return items;
 }
 
+}  // namespace
+
+std::vector<Rect> mergeRects(std::vector<Rect> rects) { return mergeWhereCheap(std::move(rects), unite); }
+
 std::vector<PixelSpans> mergeSpans(std::vector<PixelSpans> spans) {
-  spans.erase(std::remove_if(spans.begin(), spans.end(), [](const PixelSpans& s) { return s.empty(); }), spans.end());
-  bool merged = true;
-  while (merged) {
-    merged = false;
-    for (size_t i = 0; i < spans.size() && !merged; ++i)
-      for (size_t j = i + 1; j < spans.size() && !merged; ++j) {
-        PixelSpans u = spans[i].united(spans[j]);
-        if (static_cast<double>(u.area()) <= 1.25 * static_cast<double>(spans[i].area() + spans[j].area())) {
-          spans[i] = std::move(u);
-          spans.erase(spans.begin() + static_cast<std::ptrdiff_t>(j));
-          merged = true;
-        }
-      }
-  }
-  return spans;
+  return mergeWhereCheap(std::move(spans), [](const PixelSpans& a, const PixelSpans& b) { return a.united(b); });
 }
 
 FrameComposer::FrameComposer(ThreadPool& pool, int width, int height)

@@ -295,16 +295,25 @@ INSTANTIATE_TEST_SUITE_P(Backends, DisplayPixels,
 
 // ---- the presenter's upload bookkeeping, straight on an EGL surfaceless context
 
-TEST(GlPresenterUploads, SendsOnlyTheDirtyPixels) {
-  if (!hasEglExtension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless")) GTEST_SKIP() << "no Mesa surfaceless EGL";
-  auto session = EglSession::open(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "test");
-  ASSERT_TRUE(session.ok()) << session.error();
-  ASSERT_TRUE((*session)->createContext(EGL_PBUFFER_BIT).ok());
-  ASSERT_TRUE((*session)->makeCurrent());
+// A surfaceless EGL context made current (skipped without Mesa's surfaceless platform).
+class GlPresenterUploads : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!hasEglExtension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless")) GTEST_SKIP() << "no Mesa surfaceless EGL";
+    auto opened = EglSession::open(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "test");
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    session = std::move(*opened);
+    ASSERT_TRUE(session->createContext(EGL_PBUFFER_BIT).ok());
+    ASSERT_TRUE(session->makeCurrent());
+  }
+  std::unique_ptr<EglSession> session;
+};
+
+TEST_F(GlPresenterUploads, SendsOnlyTheDirtyPixels) {
   for (bool rowLength : {true, false}) {
     GlPresenterSettings settings;
     settings.allowRowLengthUpload = rowLength;
-    auto presenter = GlPresenter::create((*session)->procLoader(), GlFlavor::kGles2, kW, kH, true, settings);
+    auto presenter = GlPresenter::create(session->procLoader(), GlFlavor::kGles2, kW, kH, true, settings);
     ASSERT_TRUE(presenter.ok()) << presenter.error();
     GlPresenter& p = **presenter;
     if (!rowLength) {
@@ -329,13 +338,8 @@ TEST(GlPresenterUploads, SendsOnlyTheDirtyPixels) {
 // An offscreen target keeps its pixels: after the first frame only the damage is drawn again (the
 // dirty rectangles, the old and new places of the shapes that changed), and the picture is the
 // one a fresh presenter draws whole, pixel for pixel.
-TEST(GlPresenterUploads, DrawsAgainOnlyWhatChangedWithTheSamePixels) {
-  if (!hasEglExtension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless")) GTEST_SKIP() << "no Mesa surfaceless EGL";
-  auto session = EglSession::open(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "test");
-  ASSERT_TRUE(session.ok()) << session.error();
-  ASSERT_TRUE((*session)->createContext(EGL_PBUFFER_BIT).ok());
-  ASSERT_TRUE((*session)->makeCurrent());
-  auto a = GlPresenter::create((*session)->procLoader(), GlFlavor::kGles2, kW, kH, true);
+TEST_F(GlPresenterUploads, DrawsAgainOnlyWhatChangedWithTheSamePixels) {
+  auto a = GlPresenter::create(session->procLoader(), GlFlavor::kGles2, kW, kH, true);
   ASSERT_TRUE(a.ok()) << a.error();
   GlPresenter& p = **a;
   const long screen = static_cast<long>(kW) * kH;
@@ -368,7 +372,7 @@ TEST(GlPresenterUploads, DrawsAgainOnlyWhatChangedWithTheSamePixels) {
   const Image shot = p.screenshot();
 
   // The same picture drawn whole by a fresh presenter.
-  auto b = GlPresenter::create((*session)->procLoader(), GlFlavor::kGles2, kW, kH, true);
+  auto b = GlPresenter::create(session->procLoader(), GlFlavor::kGles2, kW, kH, true);
   ASSERT_TRUE(b.ok()) << b.error();
   ASSERT_TRUE((*b)->draw(frame, {}, overlay));
   const Image whole = (*b)->screenshot();
