@@ -202,7 +202,8 @@ int FrameComposer::bandRows(double leftMs) const {
 
 // Bilinear enlargement into the frame, in 8-bit fixed point (weights 0..256): the columns'
 // sources and weights once, then a row at a time.
-void FrameComposer::enlarge(int lw, int lh, const Rect& r) {
+void FrameComposer::enlarge(int lw, int lh, const PixelSpans& spans) {
+  const Rect r = spans.box;
   struct Tap {
     int x0, x1, t;
   };
@@ -218,8 +219,10 @@ void FrameComposer::enlarge(int lw, int lh, const Rect& r) {
     const Tap ty = tap(y, h_, lh);
     const std::uint8_t* r0 = low_.pixel(0, ty.x0);
     const std::uint8_t* r1 = low_.pixel(0, ty.x1);
-    std::uint8_t* d = frame_.pixel(r.x, y);
-    for (int x = 0; x < r.w; ++x, d += 4) {
+    const PixelSpans::Span row = spans.row(y);
+    if (row.empty()) continue;
+    std::uint8_t* d = frame_.pixel(row.x0, y);
+    for (int x = row.x0 - r.x; x < row.x1 - r.x; ++x, d += 4) {
       const Tap& tx = taps[static_cast<size_t>(x)];
       const std::uint8_t *a = r0 + 4 * tx.x0, *b = r0 + 4 * tx.x1, *c = r1 + 4 * tx.x0, *e = r1 + 4 * tx.x1;
       for (int k = 0; k < 3; ++k) {
@@ -231,7 +234,8 @@ void FrameComposer::enlarge(int lw, int lh, const Rect& r) {
   }
 }
 
-void FrameComposer::traceCoarse(const Rect& r, std::vector<Rect>& changed) {
+void FrameComposer::traceCoarse(const PixelSpans& spans, std::vector<Rect>& changed) {
+  const Rect r = spans.box;
   // The preview's scale, so the renderer's backdrop for that size is already there.
   const int lw = std::max(8, w_ / previewScale_), lh = std::max(8, h_ / previewScale_);
   // The low pixels the enlargement of r reads: its taps' span, one more each side.
@@ -247,7 +251,7 @@ void FrameComposer::traceCoarse(const Rect& r, std::vector<Rect>& changed) {
   renderer_->render(low_, Rect{x0, y0, x1 - x0 + 1, y1 - y0 + 1}, &st);
   renderer_->setCamera(Camera(camera_, w_, h_));
   counters_.render += st;
-  enlarge(lw, lh, r);
+  enlarge(lw, lh, spans);
   ++counters_.coarseRects;
   changed.push_back(r);
 }
@@ -261,7 +265,7 @@ void FrameComposer::preview(std::vector<Rect>& changed) {
   renderer_->renderFull(low_, &st);
   renderer_->setCamera(Camera(camera_, w_, h_));
   counters_.render += st;
-  enlarge(pw, ph, Rect{0, 0, w_, h_});
+  enlarge(pw, ph, PixelSpans::of(Rect{0, 0, w_, h_}));
   const double ms = msSince(t0);
   counters_.lastPreviewMs = ms;
   ++counters_.previews;
@@ -294,9 +298,9 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     ++counters_.dirtyRects;
     counters_.dirtyPixels += static_cast<std::uint64_t>(r.area());
     if (tooSlow && r.area() > 0.25 * dirtyMs_ * speed) {
-      // Shown coarse over its box now, exactly a band of the box's rows at a time next.
-      traceCoarse(r.box, changed);
-      coarse_.push_back(r.box);
+      // Shown coarse now, exactly a band of its rows at a time next.
+      traceCoarse(r, changed);
+      coarse_.push_back(r);
       anyCoarse = true;
     } else {
       renderSpans(r, changed, true);
@@ -307,14 +311,15 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
   while (!coarse_.empty()) {
     const double left = budgetMs - msSince(t0);
     if (left <= 0) break;
-    Rect& r = coarse_.front();
+    PixelSpans& s = coarse_.front();
+    const Rect r = s.box;
     // (in doubles first: flush()'s budget would overflow an int)
     const double speed = dirtySpeed();
     int rows = speed > 0 ? static_cast<int>(std::min(left * speed / std::max(1, r.w), 1e6)) : 8;
     rows = std::min(std::max(rows, 4), r.h);
-    renderRect(Rect{r.x, r.y, r.w, rows}, changed, true);
-    r.y += rows, r.h -= rows;
-    if (r.h <= 0) coarse_.erase(coarse_.begin());
+    renderSpans(s.band(r.y, r.y + rows), changed, true);
+    s = s.band(r.y + rows, r.y + r.h);
+    if (s.empty()) coarse_.erase(coarse_.begin());
   }
   while (nextBand_ < h_) {
     const double left = budgetMs - msSince(t0);

@@ -75,9 +75,9 @@ class FrameComposer {
   using BlankKey = std::tuple<const void*, std::string, std::string>;
   void preview(std::vector<Rect>& changed);
   // The frame's pixels in r from low_, a picture of the same view scaled to lw x lh (bilinear).
-  void enlarge(int lw, int lh, const Rect& r);
+  void enlarge(int lw, int lh, const PixelSpans& r);
   // r traced at the preview's scale and enlarged into the frame.
-  void traceCoarse(const Rect& r, std::vector<Rect>& changed);
+  void traceCoarse(const PixelSpans& r, std::vector<Rect>& changed);
   // Traces r into the frame (ms); `onPiece`: a dirty rectangle's pixels, which set the speed the
   // dirty budget is judged by.
   double renderRect(const Rect& r, std::vector<Rect>& changed, bool onPiece);
@@ -114,7 +114,7 @@ class FrameComposer {
   std::string shadingKey_;
   ShadingParams shading_{};
   std::vector<PixelSpans> urgent_;  // the strokes' dirty spans (Renderer::dirtySpans)
-  std::vector<Rect> coarse_;  // dirty rectangles the frame shows coarse: traced exactly next
+  std::vector<PixelSpans> coarse_;  // dirty spans the frame shows coarse: traced exactly next
   bool needPreview_ = false;
   bool blankCopied_ = false;      // frame_ was just replaced by a remembered bare sheet
   bool refineAfterMove_ = false;  // the camera moved: refine once it stops

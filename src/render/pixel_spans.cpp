@@ -80,6 +80,12 @@ PixelSpans PixelSpans::united(const PixelSpans& o) const {
   return trimmed(y0, std::move(out));
 }
 
+PixelSpans PixelSpans::band(int y0, int y1) const {
+  y0 = std::max(y0, box.y), y1 = std::min(y1, box.y + box.h);
+  if (empty() || y1 <= y0) return {};
+  return trimmed(y0, std::vector<Span>(rows.begin() + (y0 - box.y), rows.begin() + (y1 - box.y)));
+}
+
 void SpanBuilder::addHullOf(std::span<const glm::dvec2> points) {
   if (points.empty()) return;
   // The convex hull (Andrew's monotone chain), counter-clockwise in y-down image coordinates.

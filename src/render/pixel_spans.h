@@ -32,6 +32,8 @@ struct PixelSpans {
   PixelSpans grown(int n, int w, int h) const;
   // Both sets (each row the hull of its two spans: a pixel between them is kept too).
   PixelSpans united(const PixelSpans& o) const;
+  // The rows [y0, y1) of these.
+  PixelSpans band(int y0, int y1) const;
 };
 
 // Collects convex polygons in image coordinates (pixel x's centre at x + 0.5) and gives the pixels

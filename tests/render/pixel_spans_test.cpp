@@ -41,6 +41,17 @@ TEST(PixelSpans, UnitingKeepsBoth) {
   EXPECT_EQ(u.area(), 2 + 12 + 2 + 2);  // rows 0: a; 1: from a to b; 2 and 3: b
 }
 
+TEST(PixelSpans, ABandIsItsRowsTrimmed) {
+  PixelSpans s = PixelSpans::of({0, 10, 5, 4});
+  s.rows[1] = {};  // row 11 empty
+  const PixelSpans b = s.band(11, 13);
+  EXPECT_EQ(b.box.y, 12) << "the empty row at the top is trimmed";
+  EXPECT_EQ(b.box.h, 1);
+  EXPECT_EQ(b.area(), 5);
+  EXPECT_TRUE(s.band(0, 10).empty());
+  EXPECT_EQ(s.band(0, 100).area(), 15);
+}
+
 TEST(PixelSpans, AHullKeepsThePixelsWithinAPixelOfIt) {
   SpanBuilder b(100, 100);
   const std::vector<glm::dvec2> square{{10, 5}, {20, 5}, {20, 15}, {10, 15}, {15, 10}};
