@@ -136,7 +136,6 @@ struct GlPresenter::Impl {
   GLuint frameTexture = 0;
   int textureWidth = 0, textureHeight = 0;
   bool haveFrame = false;
-  bool lastUploadWhole = false;  // the last uploadFrame() sent the whole frame
   bool drawnOnce = false;        // the offscreen target holds a whole drawn frame
   GLuint atlasTexture = 0;
   GLuint targetFbo = 0, targetTexture = 0;      // offscreen target
@@ -153,6 +152,7 @@ struct GlPresenter::Impl {
               const GlPresenterSettings& settings);
   Result<GLuint> buildProgram(const char* name, const char* vertex, const char* fragment);
   Result<GLuint> createTargetTexture(GLuint* fbo);
+  // Returns whether the whole frame was sent (the first frame, a new size).
   bool uploadFrame(const Image& frame, std::span<const Rect> dirty);
   // Draws the frame and the overlay into fbo, within `areas` only (image pixels, top-down rows)
   // when given, everywhere when not.
@@ -340,7 +340,6 @@ bool GlPresenter::Impl::uploadFrame(const Image& frame, std::span<const Rect> di
   gl.BindTexture(GL_TEXTURE_2D, frameTexture);
   gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
   const bool sizeChanged = frame.width != textureWidth || frame.height != textureHeight;
-  lastUploadWhole = !haveFrame || sizeChanged;
   if (!haveFrame || sizeChanged) {
     gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, frame.width, frame.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                   frame.rgba.data());
@@ -353,7 +352,7 @@ bool GlPresenter::Impl::uploadFrame(const Image& frame, std::span<const Rect> di
     const GLint filter = frame.width == width && frame.height == height ? GL_NEAREST : GL_LINEAR;
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
-    return true;
+    return true;  // the whole frame
   }
   for (const Rect& r : dirty) {
     const int x0 = std::max(r.x, 0), y0 = std::max(r.y, 0);
@@ -378,7 +377,7 @@ bool GlPresenter::Impl::uploadFrame(const Image& frame, std::span<const Rect> di
     ++stats.rectUploads;
     stats.uploadedPixels += static_cast<std::uint64_t>(w) * h;
   }
-  return true;
+  return false;
 }
 
 void GlPresenter::Impl::bindStream(const std::vector<float>& data, int floatsPerVertex, bool withShape) {
@@ -508,14 +507,6 @@ void GlPresenter::Impl::drawLayers() {
 
 namespace {
 
-Rect unite(const Rect& a, const Rect& b) {
-  if (a.empty()) return b;
-  if (b.empty()) return a;
-  const int x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
-  const int x1 = std::max(a.x + a.w, b.x + b.w), y1 = std::max(a.y + a.h, b.y + b.h);
-  return {x0, y0, x1 - x0, y1 - y0};
-}
-
 // The pixels a shape's quad covers (its antialiased margin and a pixel of rounding included).
 Rect boxOf(float x0, float y0, float x1, float y1) {
   if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1)) return {-1 << 20, -1 << 20, 1 << 21, 1 << 21};
@@ -622,12 +613,12 @@ bool GlPresenter::draw(const Image& frame, std::span<const Rect> dirty, const Ov
                   " frame is larger than the GPU's textures (" + std::to_string(m.maxTextureSize) + ")";
     return false;
   }
-  m.uploadFrame(frame, dirty);
+  const bool whole = m.uploadFrame(frame, dirty);
   // An offscreen target we own keeps its pixels: after a whole first frame, only the damage is
   // drawn again (a window's back buffer is undefined after a swap: drawn whole every time). The
   // same pixels as a whole redraw: every pixel drawn is drawn from the frame and the whole overlay.
   std::vector<Rect> areas;
-  bool partial = m.offscreen && m.drawnOnce && !m.lastUploadWhole && frame.width == m.width && frame.height == m.height &&
+  bool partial = m.offscreen && m.drawnOnce && !whole && frame.width == m.width && frame.height == m.height &&
                  overlayDamage(m.overlay, overlay, areas);
   if (partial) {
     areas.insert(areas.end(), dirty.begin(), dirty.end());

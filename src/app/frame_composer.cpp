@@ -14,12 +14,6 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Rect unite(const Rect& a, const Rect& b) {
-  const int x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
-  const int x1 = std::max(a.x + a.w, b.x + b.w), y1 = std::max(a.y + a.h, b.y + b.h);
-  return {x0, y0, x1 - x0, y1 - y0};
-}
-
 std::string cameraKey(const CameraSpec& c) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "%d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g", static_cast<int>(c.type),
@@ -55,7 +49,9 @@ std::vector<T> mergeWhereCheap(std::vector<T> items, Unite unite) {
 
 }  // namespace
 
-std::vector<Rect> mergeRects(std::vector<Rect> rects) { return mergeWhereCheap(std::move(rects), unite); }
+std::vector<Rect> mergeRects(std::vector<Rect> rects) {
+  return mergeWhereCheap(std::move(rects), [](const Rect& a, const Rect& b) { return unite(a, b); });
+}
 
 std::vector<PixelSpans> mergeSpans(std::vector<PixelSpans> spans) {
   return mergeWhereCheap(std::move(spans), [](const PixelSpans& a, const PixelSpans& b) { return a.united(b); });

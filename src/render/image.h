@@ -15,6 +15,15 @@ struct Rect {
   int area() const { return empty() ? 0 : w * h; }
 };
 
+// The smallest rectangle holding both (an empty one adds nothing).
+inline Rect unite(const Rect& a, const Rect& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  const int x0 = a.x < b.x ? a.x : b.x, y0 = a.y < b.y ? a.y : b.y;
+  const int x1 = a.x + a.w > b.x + b.w ? a.x + a.w : b.x + b.w, y1 = a.y + a.h > b.y + b.h ? a.y + a.h : b.y + b.h;
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
 // Rows top to bottom, 4 bytes a pixel (R, G, B, A). Not thread-safe for writes to the same pixel.
 struct Image {
   int width = 0;

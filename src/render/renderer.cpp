@@ -176,7 +176,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   // the ring of pixels around them; the second writes the spans' pixels, each from its own
   // centre sample, or, where it differs from a neighbour's (an edge: the sheet against the
   // backdrop, a crease), from two more rays inside it. A pixel's bytes so depend on its own and
-  // its four neighbours' rays only: dirtyRect() grows by one pixel for it.
+  // its four neighbours' rays only: dirtySpans() grows by one pixel for it.
   const PixelSpans ringSpans = spans.grown(1, w, h);
   const Rect ring = ringSpans.box;
   // Per pixel of the ring: the centre sample's linear colour and its normal (zero: no hit).
@@ -346,15 +346,19 @@ PixelSpans Renderer::dirtySpansOfRays(const Model& model, size_t index) const {
   constexpr int kSides = 16;
   const double radius = (pieces.radius + 2.0 * std::sqrt(2.0) * field_.spacing() + cell + kCavityReach) /
                         std::cos(std::numbers::pi / kSides);  // the polygon holds the circle
+  static const std::array<glm::dvec2, kSides> kRing = [] {
+    std::array<glm::dvec2, kSides> ring;
+    for (int k = 0; k < kSides; ++k) ring[k] = {std::cos(2.0 * std::numbers::pi * k / kSides), std::sin(2.0 * std::numbers::pi * k / kSides)};
+    return ring;
+  }();
   SpanBuilder spans(camera_->width(), camera_->height());
   std::vector<glm::dvec2> projected;
   for (const auto& piece : pieces.pieces) {
     projected.clear();
     for (const Vec2& c : piece)
-      for (int k = 0; k < kSides; ++k) {
-        const double a = 2.0 * std::numbers::pi * k / kSides;
+      for (const glm::dvec2& u : kRing) {
         for (double z : {box.z0, box.z1}) {
-          const auto p = camera_->project({c.x + radius * std::cos(a), c.y + radius * std::sin(a), z});
+          const auto p = camera_->project({c.x + radius * u.x, c.y + radius * u.y, z});
           if (!p) return PixelSpans::of(projectBox(box));
           projected.push_back(*p);
         }

@@ -94,10 +94,9 @@ class Renderer {
   // or just undone): the projection of the 3D box where f can change sign or where a hit's
   // neighbourhood (its normal, its cavity term) can change, grown by one ray cell, and by one
   // pixel for the anti-aliasing. Call after sync().
-  Rect dirtyRect(const Model& model, size_t index) const { return dirtySpans(model, index).box; }
-  // The same pixels row by row: for a stroke (an offset or a patina stroke on the field tracer)
-  // the projection of its support's convex pieces (PreparedOp::supportPieces) rather than of its
-  // box; a round punch's is about three quarters of its rectangle, a diagonal line's much less.
+  // Row by row: for a stroke (an offset or a patina stroke on the field tracer) the projection of
+  // its support's convex pieces (PreparedOp::supportPieces) rather than of its box; a round
+  // punch's is about three quarters of its rectangle, a diagonal line's much less.
   PixelSpans dirtySpans(const Model& model, size_t index) const;
 
   const OpGrid& grid() const { return grid_; }

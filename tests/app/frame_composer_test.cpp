@@ -291,7 +291,9 @@ TEST(FrameComposer, MergesSpansWhereThatTracesLittleMore) {
   ASSERT_EQ(m.size(), 2u);
   for (int y = 0; y < 100; ++y)
     for (int x = 0; x < 100; ++x)
-      if (a.contains(x, y) || b.contains(x, y)) ASSERT_TRUE(m[0].contains(x, y)) << x << "," << y;
+      if (a.contains(x, y) || b.contains(x, y)) {
+        ASSERT_TRUE(m[0].contains(x, y)) << x << "," << y;
+      }
   EXPECT_LT(m[0].area(), m[0].box.area());
   EXPECT_EQ(m[1].box.x, far.box.x);
   // Side by side in the same rows far apart: merging would trace the gap, so they stay two.

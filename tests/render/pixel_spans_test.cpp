@@ -80,7 +80,9 @@ TEST(PixelSpans, ATriangleIsNarrowAtItsApex) {
     for (int x = 0; x < 200; ++x) {
       const double px = x + 0.5, py = y + 0.5;
       const double half = (py - 10.0) * 0.5;
-      if (py >= 10 && py <= 110 && px >= 100 - half && px <= 100 + half) ASSERT_TRUE(s.contains(x, y)) << x << "," << y;
+      if (py >= 10 && py <= 110 && px >= 100 - half && px <= 100 + half) {
+        ASSERT_TRUE(s.contains(x, y)) << x << "," << y;
+      }
     }
   // Far from it nothing is.
   EXPECT_FALSE(s.contains(10, 20));
