@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/leaf_bounds.h"
+#include "render/shading.h"
 
 namespace emboss {
 
@@ -38,7 +39,7 @@ float roundUp(double v) {
 
 }  // namespace
 
-void HeightField::configure(const Box2& domain, double spacing) {
+void HeightField::configure(const Box2& domain, double spacing, bool cavity) {
   s_ = spacing;
   invS_ = 1.0 / spacing;
   x0_ = domain.x0;
@@ -48,6 +49,23 @@ void HeightField::configure(const Box2& domain, double spacing) {
   xMax_ = x0_ + (nx_ - 1) * s_;
   yMax_ = y0_ + (ny_ - 1) * s_;
   samples_.assign(static_cast<size_t>(nx_) * ny_, Sample{});
+  cavity_.clear();
+  taps_.clear();
+  cavityReach_ = 0;
+  if (cavity) {
+    cavity_.assign(samples_.size(), 0.0f);
+    // A ring point k lies at a fixed offset in samples from every sample: its bilinear weights
+    // are the same everywhere (taps of zero weight dropped).
+    for (const auto& u : kCavityRing) {
+      const double ox = kCavityReach * u[0] * invS_, oy = kCavityReach * u[1] * invS_;
+      const int di = static_cast<int>(std::floor(ox)), dj = static_cast<int>(std::floor(oy));
+      const double fx = ox - di, fy = oy - dj;
+      const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+      for (int t = 0; t < 4; ++t)
+        if (w[t] > 0.0) taps_.push_back({di + (t & 1), dj + (t >> 1), static_cast<float>(w[t] / 6.0)});
+      cavityReach_ = std::max({cavityReach_, std::abs(di) + 1, std::abs(dj) + 1});
+    }
+  }
   levels_.clear();
   int w = (nx_ - 1 + kBlock - 1) / kBlock, h = (ny_ - 1 + kBlock - 1) / kBlock;
   for (;;) {
@@ -64,11 +82,13 @@ void HeightField::clear() {
   nx_ = ny_ = 0;
   samples_.clear();
   samples_.shrink_to_fit();
+  cavity_.clear();
+  cavity_.shrink_to_fit();
   levels_.clear();
 }
 
 size_t HeightField::memoryBytes() const {
-  size_t n = samples_.size() * sizeof(Sample);
+  size_t n = samples_.size() * sizeof(Sample) + cavity_.size() * sizeof(float);
   for (const auto& l : levels_) n += l.nodes.size() * sizeof(Node);
   return n;
 }
@@ -212,6 +232,52 @@ void HeightField::finishFlat() {
   // net, and every level above is the same node.
   const Node zero = leafNode(0, 0, 0, 0, 0, 0);
   for (Level& l : levels_) std::fill(l.nodes.begin(), l.nodes.end(), zero);
+  std::fill(cavity_.begin(), cavity_.end(), 0.0f);  // a flat sheet has no cavity
+}
+
+void HeightField::updateCavity(const SampleRect& r) {
+  // Away from the lattice's edges a sample's depth is its taps' weighted sum less its own D, in
+  // float, in the taps' order; near them the ring is read through valueBilinear() (clamped to the
+  // domain). Either way a function of the sample's position and the D around it alone, so an
+  // update over part of the lattice gives the bits a full one does.
+  int tiLo = 0, tiHi = 0, tjLo = 0, tjHi = 0;
+  for (const Tap& t : taps_) tiLo = std::min(tiLo, t.di), tiHi = std::max(tiHi, t.di), tjLo = std::min(tjLo, t.dj), tjHi = std::max(tjHi, t.dj);
+  thread_local std::vector<float> acc;
+  auto edge = [&](int i, int j) {
+    const double x = sampleX(i), y = sampleY(j);
+    double ring = 0.0;
+    for (const auto& u : kCavityRing) ring += valueBilinear(x + kCavityReach * u[0], y + kCavityReach * u[1]);
+    cavity_[static_cast<size_t>(j) * nx_ + i] = static_cast<float>(ring / 6.0 - at(i, j).d);
+  };
+  for (int j = r.j0; j <= r.j1; ++j) {
+    const bool rowInside = j + tjLo >= 0 && j + tjHi <= ny_ - 1;
+    const int a = rowInside ? std::max(r.i0, -tiLo) : r.i1 + 1, b = rowInside ? std::min(r.i1, nx_ - 1 - tiHi) : r.i1;
+    for (int i = r.i0; i < std::min(a, r.i1 + 1); ++i) edge(i, j);
+    if (a <= b) {
+      const int n = b - a + 1;
+      acc.assign(static_cast<size_t>(n), 0.0f);
+      for (const Tap& t : taps_) {
+        const Sample* src = &at(a + t.di, j + t.dj);
+        const float w = t.w;
+        for (int k = 0; k < n; ++k) acc[static_cast<size_t>(k)] += w * src[k].d;
+      }
+      const Sample* own = &at(a, j);
+      float* out = &cavity_[static_cast<size_t>(j) * nx_ + a];
+      for (int k = 0; k < n; ++k) out[k] = acc[static_cast<size_t>(k)] - own[k].d;
+    }
+    for (int i = std::max(b + 1, a); i <= r.i1; ++i) edge(i, j);
+  }
+}
+
+double HeightField::cavityDepth(double x, double y) const {
+  if (cavity_.empty()) return 0.0;
+  const double fx = std::clamp((x - x0_) * invS_, 0.0, nx_ - 1.0), fy = std::clamp((y - y0_) * invS_, 0.0, ny_ - 1.0);
+  const int i = std::min(static_cast<int>(fx), nx_ - 2), j = std::min(static_cast<int>(fy), ny_ - 2);
+  const double u = fx - i, v = fy - j;
+  const float* r0 = &cavity_[static_cast<size_t>(j) * nx_ + i];
+  const float* r1 = r0 + nx_;
+  const double a = r0[0] + u * (r0[1] - r0[0]), b = r1[0] + u * (r1[1] - r1[0]);
+  return a + v * (b - a);
 }
 
 void HeightField::updateLevels(int la0, int lb0, int la1, int lb1) {
@@ -247,6 +313,10 @@ void HeightField::finish(const SampleRect& rIn, ThreadPool* pool) {
   // Leaves by rows of leaves (disjoint nodes).
   forBands(SampleRect{la0, lb0, la1, lb1}, pool, 1, [&](const SampleRect& b) { updateLeaves(b.i0, b.j0, b.i1, b.j1); }, 64);
   updateLevels(la0, lb0, la1, lb1);
+  if (!cavity_.empty()) {
+    const SampleRect c = clamp(grow(r, cavityReach_));
+    forBands(c, pool, 4, [&](const SampleRect& b) { updateCavity(b); });
+  }
 }
 
 // Scalar on purpose: four-lane vector types (GCC/Clang vector extensions) measured no faster

@@ -49,8 +49,9 @@ class HeightField {
   static constexpr int kBlock = 8;  // cells per pyramid leaf, each way
 
   // Sets up an all-zero lattice of spacing `spacing` covering `domain`, its origin at the domain's
-  // lower corner (so it depends on nothing but the domain).
-  void configure(const Box2& domain, double spacing);
+  // lower corner (so it depends on nothing but the domain). With `cavity`, the field also keeps the
+  // shading's cavity depth per sample (cavityDepth()).
+  void configure(const Box2& domain, double spacing, bool cavity = false);
   void clear();
   bool configured() const { return nx_ > 0; }
 
@@ -95,6 +96,12 @@ class HeightField {
   // D bilinear between the four samples around (x, y) (clamped to the domain): about a third of
   // value()'s work, for what needs D only roughly (the shading's cavity term).
   double valueBilinear(double x, double y) const;
+  // The shading's cavity depth (shading.h: the mean of D on the ring of six at kCavityReach, less D)
+  // interpolated bilinearly from its values at the samples, which finish() keeps (when configured
+  // with `cavity`; 0 otherwise). One lookup a hit instead of seven scattered ones. A sample's depth
+  // reads D within cavityReachSamples() of it, so finish(r) refreshes it that far around r.
+  double cavityDepth(double x, double y) const;
+  int cavityReachSamples() const { return cavityReach_; }
   // Bounds over a box inside domain() (callers check containsBox()).
   Bound bound(const Box2& b) const;
   // Bounds over the whole lattice.
@@ -105,6 +112,8 @@ class HeightField {
     float d = 0, dx = 0, dy = 0, dxy = 0;
   };
   const Sample& sample(int i, int j) const { return samples_[static_cast<size_t>(j) * nx_ + i]; }
+  // For tests: the cavity depth kept at a sample (0 without `cavity`).
+  float cavitySample(int i, int j) const { return cavity_.empty() ? 0.0f : cavity_[static_cast<size_t>(j) * nx_ + i]; }
   struct Saved {
     SampleRect r;
     std::vector<Sample> samples;
@@ -123,6 +132,7 @@ class HeightField {
   void updateTwist(const SampleRect& r);
   void updateLeaves(int la0, int lb0, int la1, int lb1);
   void updateLevels(int la0, int lb0, int la1, int lb1);
+  void updateCavity(const SampleRect& r);
   // A leaf's bounds from the extremes of its patches' Bezier nets (values, u and v derivatives).
   Node leafNode(double lo, double hi, double uLo, double uHi, double vLo, double vHi) const;
 
@@ -130,6 +140,15 @@ class HeightField {
   int nx_ = 0, ny_ = 0;
   std::vector<Sample> samples_;
   std::vector<Level> levels_;  // 0: leaves of kBlock x kBlock cells; the last: one node
+  // The cavity depth per sample (empty without `cavity`), and the ring's bilinear taps in samples
+  // (offsets and weights, the same for every sample away from the lattice's edges).
+  struct Tap {
+    int di, dj;
+    float w;
+  };
+  std::vector<float> cavity_;
+  std::vector<Tap> taps_;
+  int cavityReach_ = 0;
 };
 
 }  // namespace emboss

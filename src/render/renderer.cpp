@@ -143,7 +143,7 @@ std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, c
   normalOut = glm::vec3(hit->n);
   double cavity = 0.0;
   if (field) {
-    cavity = cavityAt(hit->p.x, hit->p.y, [&](double x, double y) { return field_.valueBilinear(x, y); });
+    cavity = cavityOfDepth(field_.cavityDepth(hit->p.x, hit->p.y));
   }
   Patina patina{};
   if (hasPatina_) {

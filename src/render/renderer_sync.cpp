@@ -50,7 +50,7 @@ void Renderer::rebuildField(const Model& model) {
   const Box2 domain = wb.xy().grown(kFieldMargin);
   const double area = (domain.x1 - domain.x0) * (domain.y1 - domain.y0);
   const double spacing = std::max(kFieldSpacing, std::sqrt(area / kMaxFieldSamples));
-  field_.configure(domain, spacing);
+  field_.configure(domain, spacing, /*cavity=*/true);
   fieldWorkpiece_ = model.workpiecePtr();
   const Workpiece* w = fieldWorkpiece_.get();
   workpieceKind_ = dynamic_cast<const Plate*>(w) ? 1 : dynamic_cast<const Disc*>(w) ? 2 : dynamic_cast<const Bowl*>(w) ? 3 : 0;

@@ -50,6 +50,9 @@ inline constexpr double kCavityRing[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, 
 inline constexpr double kCavityHalfDepth = 0.1;  // mm
 template <class D>
 double cavityAt(double x, double y, const D& displacement);
+// The cavity term of a depth below the ring's mean (the renderer keeps the depth per sample of its
+// field: HeightField::cavityDepth()).
+inline double cavityOfDepth(double depth) { return depth <= 0 ? 0.0 : depth / (depth + kCavityHalfDepth); }
 // Radiance of the studio the metal reflects, by direction (x right, y up the bench, z toward the
 // viewer's side of the sheet), in linear RGB: what every metal is lit by (and what the studio
 // export gives a path tracer).
@@ -62,12 +65,12 @@ std::array<std::uint8_t, 3> toSrgb8(const glm::dvec3& linear);
 template <class D>
 double cavityAt(double x, double y, const D& displacement) {
   // D at the point against its mean on a ring of six at kCavityReach: a groove, a dent, the foot
-  // of a raised rim. (Seven lookups a hit: each is a cache miss in a large field.)
+  // of a raised rim. The renderer keeps this depth at the samples of its field and interpolates it
+  // (HeightField::cavityDepth: one lookup a hit instead of seven scattered ones).
   const double d = displacement(x, y);
   double ring = 0.0;
   for (const auto& u : kCavityRing) ring += displacement(x + kCavityReach * u[0], y + kCavityReach * u[1]);
-  const double depth = ring / 6.0 - d;
-  return depth <= 0 ? 0.0 : depth / (depth + kCavityHalfDepth);
+  return cavityOfDepth(ring / 6.0 - d);
 }
 
 }  // namespace emboss

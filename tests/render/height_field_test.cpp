@@ -11,6 +11,7 @@
 
 #include "bench/piece_generator.h"
 #include "render/renderer.h"
+#include "render/shading.h"
 
 namespace emboss {
 namespace {
@@ -71,6 +72,12 @@ void expectSameSamples(const HeightField& a, const HeightField& b) {
   for (int j = 0; j < a.ny(); ++j)
     for (int i = 0; i < a.nx(); ++i)
       ASSERT_EQ(0, std::memcmp(&a.sample(i, j), &b.sample(i, j), sizeof(HeightField::Sample))) << "sample " << i << ", " << j;
+  // The shading's cavity depth kept per sample: the same bits too.
+  for (int j = 0; j < a.ny(); ++j)
+    for (int i = 0; i < a.nx(); ++i) {
+      const float p = a.cavitySample(i, j), q = b.cavitySample(i, j);
+      ASSERT_EQ(0, std::memcmp(&p, &q, sizeof(float))) << "cavity depth at sample " << i << ", " << j;
+    }
 }
 
 // Appends, undos (recomputed from scratch under the support), redos and replacing the redo tail
@@ -113,10 +120,10 @@ TEST(HeightField, IncrementalUpdatesEqualAFullBuildBitForBit) {
 TEST(HeightField, FlatFinishEqualsAFullBuildOfABareSheet) {
   const Box2 domain{-152.5, -107.5, 152.5, 107.5};  // an A4 plate and its margin
   HeightField built, flat;
-  built.configure(domain, 0.125);
+  built.configure(domain, 0.125, /*cavity=*/true);
   built.recompute(built.all(), {});
   built.finish(built.all());
-  flat.configure(domain, 0.125);
+  flat.configure(domain, 0.125, /*cavity=*/true);
   flat.finishFlat();
   expectSameSamples(flat, built);
   std::mt19937 rng(5);
@@ -135,6 +142,44 @@ TEST(HeightField, FlatFinishEqualsAFullBuildOfABareSheet) {
   const HeightField::Bound whole = flat.bound(domain);
   EXPECT_LE(whole.lo, 0.0);
   EXPECT_GE(whole.hi, 0.0);
+}
+
+// The cavity depth the field keeps per sample and interpolates is the shading's ring of six
+// (shading.h, cavityAt) over the bilinear D, within a small part of the depth that darkens by half,
+// inside the lattice and at its edges (where the ring is clamped to the domain), and the fields
+// the renderer makes keep it; the set operations' shift fields do not.
+TEST(HeightField, CavityDepthIsTheRingOfSixAroundEachPoint) {
+  const GeneratedPiece piece = densePiece(600, 11);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok());
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.sync(*model);
+  const HeightField& f = r.field();
+  ASSERT_GT(f.cavityReachSamples(), 0);
+  const Box2 dom = f.domain();
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> ux(dom.x0, dom.x1), uy(dom.y0, dom.y1), edge(0.0, 1.5);
+  double worst = 0, deepest = 0;
+  long deep = 0;
+  std::vector<double> diffs;
+  for (int k = 0; k < 40000; ++k) {
+    double x = ux(rng), y = uy(rng);
+    if (k % 4 == 0) x = k % 8 == 0 ? dom.x0 + edge(rng) : dom.x1 - edge(rng);  // the ring clamped
+    const double ring = cavityAt(x, y, [&](double a, double b) { return f.valueBilinear(a, b); });
+    const double kept = cavityOfDepth(f.cavityDepth(x, y));
+    worst = std::max(worst, std::abs(kept - ring));
+    diffs.push_back(std::abs(kept - ring));
+    deepest = std::max(deepest, ring);
+    if (ring > 0.3) ++deep;
+  }
+  std::sort(diffs.begin(), diffs.end());
+  const double p99 = diffs[diffs.size() * 99 / 100];
+  std::printf("cavity term: kept per sample against the ring of six: max difference %.3g, 99th percentile %.3g "
+              "(deepest %.3g, %ld points over 0.3)\n", worst, p99, deepest, deep);
+  EXPECT_GT(deep, 100);  // the piece has grooves the term finds
+  EXPECT_LT(worst, 0.05);  // at the creases of the narrowest grooves (the term is 0..1)
+  EXPECT_LT(p99, 0.005);
 }
 
 // The pyramid's bounds hold the interpolated field and its slopes everywhere in their box.
