@@ -46,7 +46,7 @@ std::uint64_t edgeKey(int i, int j, int k, int dir) {
 
 struct BlockOut {
   std::vector<std::uint64_t> keys;
-  std::vector<std::array<double, 3>> pos;
+  std::vector<std::array<float, 3>> pos;  // the mesh's floats (found in double)
   std::vector<std::array<std::uint32_t, 3>> tris;  // indices into keys / pos
 };
 
@@ -158,7 +158,8 @@ class BlockMesher {
     double t = fa - fb > 0.0 ? ta + (tb - ta) * fa / (fa - fb) : 0.5 * (ta + tb);
     t = std::clamp(t, kClampT, 1.0 - kClampT);
     out_->keys.push_back(key);
-    out_->pos.push_back({pin[0] + t * (pout[0] - pin[0]), pin[1] + t * (pout[1] - pin[1]), pin[2] + t * (pout[2] - pin[2])});
+    out_->pos.push_back({static_cast<float>(pin[0] + t * (pout[0] - pin[0])), static_cast<float>(pin[1] + t * (pout[1] - pin[1])),
+                         static_cast<float>(pin[2] + t * (pout[2] - pin[2]))});
     return it->second;
   }
 
@@ -275,8 +276,7 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
   opGrid.sync(model);
   ThreadPool pool(options.threads);
   const long blocks = static_cast<long>(g.bx) * g.by * g.bz;
-  std::vector<BlockOut> outs(static_cast<size_t>(blocks));
-  std::atomic<long> done{0}, evals{0};
+  std::atomic<long> evals{0};
   std::mutex progressMutex;
   int lastPercent = -1;
   auto report = [&](double fraction) {
@@ -288,61 +288,80 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     options.progress(fraction);
   };
   report(0.0);
-  // One tile per block column (x, y); the column's blocks run bottom to top.
-  pool.parallelFor2D(Rect{0, 0, g.bx, g.by}, 1, [&](const Rect& r) {
-    std::vector<std::uint32_t> scratch;
-    for (int bj = r.y; bj < r.y + r.h; ++bj)
-      for (int bi = r.x; bi < r.x + r.w; ++bi) {
-        const Box2 xy{g.ox + bi * kBlock * h, g.oy + bj * kBlock * h, g.ox + std::min((bi + 1) * kBlock, g.nx) * h,
-                      g.oy + std::min((bj + 1) * kBlock, g.ny) * h};
-        const auto found = opGrid.in(xy, scratch);
-        const std::vector<std::uint32_t> cand(found.begin(), found.end());
-        long n = 0;
-        for (int bk = 0; bk < g.bz; ++bk) {
-          BlockMesher mesher(model, g, cand, bi, bj, bk, n);
-          mesher.run(outs[(static_cast<size_t>(bk) * g.by + bj) * g.bx + bi]);
+  // The fine mesh: the blocks' surfaces, merged. (Made again, rather than kept beside the
+  // decimated one, in the rare case that the decimated mesh fails its check: on a busy piece that
+  // copy was a fifth of the peak memory.)
+  auto fineMesh = [&](bool reporting) {
+    std::vector<BlockOut> outs(static_cast<size_t>(blocks));
+    std::atomic<long> done{0};
+    // One tile per block column (x, y); the column's blocks run bottom to top.
+    pool.parallelFor2D(Rect{0, 0, g.bx, g.by}, 1, [&](const Rect& r) {
+      std::vector<std::uint32_t> scratch;
+      for (int bj = r.y; bj < r.y + r.h; ++bj)
+        for (int bi = r.x; bi < r.x + r.w; ++bi) {
+          const Box2 xy{g.ox + bi * kBlock * h, g.oy + bj * kBlock * h, g.ox + std::min((bi + 1) * kBlock, g.nx) * h,
+                        g.oy + std::min((bj + 1) * kBlock, g.ny) * h};
+          const auto found = opGrid.in(xy, scratch);
+          const std::vector<std::uint32_t> cand(found.begin(), found.end());
+          long n = 0;
+          for (int bk = 0; bk < g.bz; ++bk) {
+            BlockMesher mesher(model, g, cand, bi, bj, bk, n);
+            mesher.run(outs[(static_cast<size_t>(bk) * g.by + bj) * g.bx + bi]);
+          }
+          evals += n;
+          if (reporting) report(0.8 * static_cast<double>(done += g.bz) / static_cast<double>(blocks));
         }
-        evals += n;
-        report(0.8 * static_cast<double>(done += g.bz) / static_cast<double>(blocks));
-      }
-  });
-
-  // Blocks share the vertices of their common faces: merge by edge key, in block order.
-  TriangleMesh mesh;
-  {
-    size_t nv = 0, nt = 0;
+    });
+    // Blocks share the vertices of their common faces: merge by edge key, in block order. Only an
+    // edge lying in a block's face can be in two blocks; the others (most) are new vertices.
+    auto shared = [](std::uint64_t key) {
+      const auto i = static_cast<int>(key >> 43), j = static_cast<int>((key >> 22) & ((1u << 21) - 1)),
+                 k = static_cast<int>((key >> 3) & ((1u << 19) - 1)), dir = static_cast<int>(key & 7);
+      return (i % kBlock == 0 && !(dir & 1)) || (j % kBlock == 0 && !(dir & 2)) || (k % kBlock == 0 && !(dir & 4));
+    };
+    TriangleMesh mesh;
+    size_t nv = 0, nt = 0, ns = 0;
     for (const auto& o : outs) {
       nv += o.keys.size();
       nt += o.tris.size();
+      for (std::uint64_t key : o.keys) ns += shared(key) ? 1 : 0;
     }
     std::unordered_map<std::uint64_t, std::uint32_t> global;
-    global.reserve(nv);
+    global.reserve(ns);
     mesh.vertices.reserve(nv);
     mesh.triangles.reserve(nt);
     std::vector<std::uint32_t> remap;
     for (auto& o : outs) {
       remap.resize(o.keys.size());
       for (size_t v = 0; v < o.keys.size(); ++v) {
-        auto [it, fresh] = global.try_emplace(o.keys[v], static_cast<std::uint32_t>(mesh.vertices.size()));
-        if (fresh)
-          mesh.vertices.push_back({static_cast<float>(o.pos[v][0]), static_cast<float>(o.pos[v][1]), static_cast<float>(o.pos[v][2])});
-        remap[v] = it->second;
+        const auto next = static_cast<std::uint32_t>(mesh.vertices.size());
+        if (shared(o.keys[v])) {
+          auto [it, fresh] = global.try_emplace(o.keys[v], next);
+          remap[v] = it->second;
+          if (!fresh) continue;
+        } else {
+          remap[v] = next;
+        }
+        mesh.vertices.push_back(o.pos[v]);
       }
       for (const auto& t : o.tris) mesh.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
       o = BlockOut{};
     }
-  }
+    return mesh;
+  };
+  TriangleMesh mesh = fineMesh(true);
   weldFloats(mesh);
   st.fineTriangles = mesh.triangles.size();
   if (mesh.triangles.empty()) return fail("the model has no surface inside its bounds (nothing to mesh)");
   report(0.85);
 
   if (options.maxError > 0.0) {
-    TriangleMesh fine = mesh;
     st.fineTiles = decimate(mesh, options.maxError, 48.0 * h, pool);
     const std::string problem = mesh.triangles.empty() ? "empty" : checkClosedManifold(mesh);
     if (!problem.empty()) {
-      mesh = std::move(fine);  // keep the fine mesh rather than a broken one
+      mesh = {};
+      mesh = fineMesh(false);  // keep the fine mesh rather than a broken one
+      weldFloats(mesh);
     } else {
       st.decimated = true;
     }

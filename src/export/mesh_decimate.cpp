@@ -21,14 +21,6 @@ struct FloatKey {
   std::uint32_t x, y, z;
   bool operator==(const FloatKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
-struct FloatKeyHash {
-  size_t operator()(const FloatKey& k) const {
-    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
-    h ^= (h >> 29) + k.y * 0xBF58476D1CE4E5B9ull;
-    h ^= (h >> 31) + k.z * 0x94D049BB133111EBull;
-    return static_cast<size_t>(h ^ (h >> 32));
-  }
-};
 FloatKey floatKey(const std::array<float, 3>& p) {
   FloatKey k;
   float v[3] = {p[0] == 0.0f ? 0.0f : p[0], p[1] == 0.0f ? 0.0f : p[1], p[2] == 0.0f ? 0.0f : p[2]};  // -0 is +0
@@ -40,25 +32,48 @@ FloatKey floatKey(const std::array<float, 3>& p) {
 
 }  // namespace
 
-// Merges vertices whose float positions are equal and drops the triangles that degenerate.
+// Merges vertices whose float positions are equal and drops the triangles that degenerate. The
+// vertices are sorted by position (an index array, not a hash map of every vertex: on a busy piece
+// that map held hundreds of megabytes); each keeps its first occurrence's place, in the order of
+// first occurrence, as a map filled in vertex order would.
 void weldFloats(TriangleMesh& mesh) {
-  std::unordered_map<FloatKey, std::uint32_t, FloatKeyHash> seen;
-  seen.reserve(mesh.vertices.size());
-  std::vector<std::uint32_t> remap(mesh.vertices.size());
+  const size_t n = mesh.vertices.size();
+  std::vector<FloatKey> keys(n);
+  for (size_t v = 0; v < n; ++v) keys[v] = floatKey(mesh.vertices[v]);
+  std::vector<std::uint32_t> order(n);
+  for (size_t v = 0; v < n; ++v) order[v] = static_cast<std::uint32_t>(v);
+  auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const FloatKey &p = keys[a], &q = keys[b];
+    if (p.x != q.x) return p.x < q.x;
+    if (p.y != q.y) return p.y < q.y;
+    if (p.z != q.z) return p.z < q.z;
+    return a < b;  // equal positions: the first occurrence first
+  };
+  std::sort(order.begin(), order.end(), less);
+  // first[v]: the first occurrence of v's position (v itself when it is the first).
+  std::vector<std::uint32_t> first(n);
+  for (size_t r = 0; r < n; ++r)
+    first[order[r]] = r > 0 && keys[order[r]] == keys[order[r - 1]] ? first[order[r - 1]] : order[r];
+  keys = {};
+  order = {};
+  std::vector<std::uint32_t>& remap = first;  // filled in vertex order: a first occurrence precedes its copies
   std::vector<std::array<float, 3>> kept;
-  kept.reserve(mesh.vertices.size());
-  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
-    auto [it, fresh] = seen.try_emplace(floatKey(mesh.vertices[v]), static_cast<std::uint32_t>(kept.size()));
-    if (fresh) kept.push_back(mesh.vertices[v]);
-    remap[v] = it->second;
+  kept.reserve(n);
+  for (size_t v = 0; v < n; ++v) {
+    if (first[v] == v) {
+      remap[v] = static_cast<std::uint32_t>(kept.size());
+      kept.push_back(mesh.vertices[v]);
+    } else {
+      remap[v] = remap[first[v]];
+    }
   }
-  size_t n = 0;
+  size_t m = 0;
   for (auto t : mesh.triangles) {
     t = {remap[t[0]], remap[t[1]], remap[t[2]]};
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
-    mesh.triangles[n++] = t;
+    mesh.triangles[m++] = t;
   }
-  mesh.triangles.resize(n);
+  mesh.triangles.resize(m);
   mesh.vertices = std::move(kept);
 }
 
