@@ -9,6 +9,7 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -208,6 +209,9 @@ struct MetalResponse {
   std::array<double, kBins + 1> albedo{};       // E_1(mu): the same with Fresnel 1
   glm::dvec3 favg{0.0};                          // hemispherical average of the Fresnel term
   double eavg = 0.0;                             // cosine-weighted average of E_1
+  // Kulla-Conty: the lobe that returns the energy single scattering loses, 1 - E_1(mu), tinted by
+  // the Fresnel term averaged over the bounces (the same for every mu: worked out once).
+  glm::dvec3 fms{0.0};
 
   explicit MetalResponse(const Metal& m) {
     const double alpha = m.roughness;
@@ -239,6 +243,7 @@ struct MetalResponse {
       const double mu = (bin + 0.5) / kBins;
       eavg += 2.0 * mu * 0.5 * (albedo[bin] + albedo[bin + 1]) / kBins;
     }
+    fms = favg * favg * eavg / (glm::dvec3(1.0) - favg * (1.0 - eavg));
   }
 
   // Single and multiple scattering reflectance for view cosine mu, to multiply the prefiltered
@@ -249,9 +254,6 @@ struct MetalResponse {
     const double a = f - i;
     ss = glm::mix(single[i], single[i + 1], a);
     const double e1 = albedo[i] + (albedo[i + 1] - albedo[i]) * a;
-    // Kulla-Conty: the lobe that returns the energy single scattering loses, 1 - E_1(mu), tinted
-    // by the Fresnel term averaged over the bounces.
-    const glm::dvec3 fms = favg * favg * eavg / (glm::dvec3(1.0) - favg * (1.0 - eavg));
     ms = fms * (1.0 - e1);
   }
 };
@@ -266,18 +268,30 @@ glm::dvec2 hammerGradient(double x, double y, double slope) {
   const double amp = slope * 3.0 * std::sqrt(3.0) * kRadius / 16.0;
   const double k0 = 4.0 * amp * kInvR2;
   const int cx = static_cast<int>(std::floor(x / kCell)), cy = static_cast<int>(std::floor(y / kCell));
-  // The nine cells around: no division and no branch per cell (a dimple out of reach weighs 0).
-  double gx = 0.0, gy = 0.0;
-  for (int j = cy - 1; j <= cy + 1; ++j)
-    for (int i = cx - 1; i <= cx + 1; ++i) {
+  // The centres of the nine cells around, hashed from the cells' indices: the same for every hit in
+  // the cell (about five pixels in a row of a frame), so each thread keeps the last cell's.
+  struct Centres {
+    int cx = std::numeric_limits<int>::min(), cy = 0;
+    double fx[9], fy[9];
+  };
+  thread_local Centres c;
+  if (cx != c.cx || cy != c.cy) {
+    c.cx = cx, c.cy = cy;
+    for (int n = 0; n < 9; ++n) {
+      const int i = cx - 1 + n % 3, j = cy - 1 + n / 3;
       std::uint32_t hsh = static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u;
       hsh ^= hsh >> 15, hsh *= 0x2C1B3C6Du, hsh ^= hsh >> 12, hsh *= 0x297A2D39u, hsh ^= hsh >> 15;
-      const double fx = (i + 0.15 + kJitter * (hsh & 0xFFFF)) * kCell;
-      const double fy = (j + 0.15 + kJitter * (hsh >> 16)) * kCell;
-      const double dx = x - fx, dy = y - fy;
-      const double k = k0 * std::max(0.0, 1.0 - (dx * dx + dy * dy) * kInvR2);
-      gx += k * dx, gy += k * dy;
+      c.fx[n] = (i + 0.15 + kJitter * (hsh & 0xFFFF)) * kCell;
+      c.fy[n] = (j + 0.15 + kJitter * (hsh >> 16)) * kCell;
     }
+  }
+  // No division and no branch per cell (a dimple out of reach weighs 0).
+  double gx = 0.0, gy = 0.0;
+  for (int n = 0; n < 9; ++n) {
+    const double dx = x - c.fx[n], dy = y - c.fy[n];
+    const double k = k0 * std::max(0.0, 1.0 - (dx * dx + dy * dy) * kInvR2);
+    gx += k * dx, gy += k * dy;
+  }
   return {gx, gy};
 }
 
