@@ -179,11 +179,17 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   // its four neighbours' rays only: dirtySpans() grows by one pixel for it.
   const PixelSpans ringSpans = spans.grown(1, w, h);
   const Rect ring = ringSpans.box;
-  // Per pixel of the ring: the centre sample's linear colour and its normal (zero: no hit).
-  std::vector<glm::vec3> centre(static_cast<size_t>(ring.w) * ring.h), normal(centre.size());
+  // Per pixel of the ring's box: the centre sample's linear colour and its normal (zero: no hit),
+  // written by the first pass for every pixel it traces; the second reads a colour and a normal
+  // only where `hits` says the ray hit, so only `hits` starts cleared.
+  const size_t ringPixels = static_cast<size_t>(ring.w) * ring.h;
+  if (centre_.size() < ringPixels) centre_.resize(ringPixels), normal_.resize(ringPixels), hits_.resize(ringPixels);
+  glm::vec3* const centre = centre_.data();
+  glm::vec3* const normal = normal_.data();
   // Whether the centre ray hit (derivable from the normal, but a byte the second pass reads four
   // times a pixel is cheaper than three float comparisons: about 4 ms a frame on one thread).
-  std::vector<std::uint8_t> hits(centre.size(), 0);
+  std::uint8_t* const hits = hits_.data();
+  std::fill_n(hits, ringPixels, std::uint8_t{0});
   auto at = [&](int x, int y) { return static_cast<size_t>(y - ring.y) * ring.w + (x - ring.x); };
   // Small rectangles (dirty updates) in smaller tiles, so that every thread gets a share; the
   // tiles change no pixel.

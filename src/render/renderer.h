@@ -175,6 +175,10 @@ class Renderer {
   Box3 bounds_{};                   // exact tracer: the model's bounds
   std::vector<std::uint32_t> all_;  // 0..active-1, for the naive mode
   std::vector<std::uint8_t> backdrop_;  // the camera's backdrop, 3 bytes a pixel (it never changes)
+  // render()'s per-pixel buffers for the ring of its spans, kept between calls (a full frame's are
+  // 25 MB: allocated and zeroed anew, their page faults cost a frame a few percent).
+  std::vector<glm::vec3> centre_, normal_;
+  std::vector<std::uint8_t> hits_;
   // The backdrop of the size before (a preview's, or the frame's while a preview is traced): going
   // back and forth between two sizes computes neither again.
   std::vector<std::uint8_t> spareBackdrop_;
