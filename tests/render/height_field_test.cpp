@@ -8,6 +8,7 @@
 #include <vector>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 
 #include "bench/piece_generator.h"
 #include "render/renderer.h"
@@ -21,6 +22,19 @@ GeneratedPiece densePiece(int ops, unsigned seed) {
   opt.width = 100, opt.height = 70;  // a third of A4's area, real tool sizes
   return generatePiece(ops, seed, opt);
 }
+
+// A dense piece's model and a renderer (2 threads) synced to it: its field built.
+struct SyncedPiece {
+  SyncedPiece(int ops, unsigned seed) : model(modelOf(densePiece(ops, seed))), renderer(pool) { renderer.sync(model); }
+  static Model modelOf(const GeneratedPiece& piece) {
+    auto m = piece.makeModel();
+    if (!m.ok()) throw std::runtime_error(m.error());
+    return std::move(*m);
+  }
+  Model model;
+  ThreadPool pool{2};
+  Renderer renderer;
+};
 
 Grad exactDisplacement(const Model& m, double x, double y) {
   Grad total(0.0);
@@ -149,13 +163,8 @@ TEST(HeightField, FlatFinishEqualsAFullBuildOfABareSheet) {
 // inside the lattice and at its edges (where the ring is clamped to the domain), and the fields
 // the renderer makes keep it; the set operations' shift fields do not.
 TEST(HeightField, CavityDepthIsTheRingOfSixAroundEachPoint) {
-  const GeneratedPiece piece = densePiece(600, 11);
-  auto model = piece.makeModel();
-  ASSERT_TRUE(model.ok());
-  ThreadPool pool(2);
-  Renderer r(pool);
-  r.sync(*model);
-  const HeightField& f = r.field();
+  const SyncedPiece p(600, 11);
+  const HeightField& f = p.renderer.field();
   ASSERT_GT(f.cavityReachSamples(), 0);
   const Box2 dom = f.domain();
   std::mt19937 rng(2);
@@ -184,13 +193,8 @@ TEST(HeightField, CavityDepthIsTheRingOfSixAroundEachPoint) {
 
 // The pyramid's bounds hold the interpolated field and its slopes everywhere in their box.
 TEST(HeightField, BoundsAreConservative) {
-  const GeneratedPiece piece = densePiece(600, 9);
-  auto model = piece.makeModel();
-  ASSERT_TRUE(model.ok());
-  ThreadPool pool(2);
-  Renderer r(pool);
-  r.sync(*model);
-  const HeightField& f = r.field();
+  const SyncedPiece p(600, 9);
+  const HeightField& f = p.renderer.field();
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> ux(-50, 50), uy(-35, 35), size(0.0, 3.0), u01(0, 1);
   for (int i = 0; i < 3000; ++i) {
