@@ -357,7 +357,8 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
 
   if (options.maxError > 0.0) {
     st.fineTiles = decimate(mesh, options.maxError, 48.0 * h, pool);
-    const std::string problem = mesh.triangles.empty() ? "empty" : checkClosedManifold(mesh);
+    const std::string problem =
+        options.rejectDecimated ? "rejected" : mesh.triangles.empty() ? "empty" : checkClosedManifold(mesh);
     if (!problem.empty()) {
       mesh = {};
       mesh = fineMesh(false);  // keep the fine mesh rather than a broken one

@@ -27,6 +27,9 @@ struct MeshOptions {
   // the fine mesh.
   double maxError = 0.01;
   int threads = 0;  // 0: one per core
+  // For tests: the decimated mesh is taken as failing its final check, so the fine mesh is made
+  // again and written (the path a real failure takes).
+  bool rejectDecimated = false;
   // Called with the fraction done (0..1), from the calling thread or a worker, never concurrently.
   std::function<void(double)> progress;
   // Refused beyond this many grid cells, or columns of cells in the plate's plane (the fine mesh

@@ -83,6 +83,28 @@ TEST(MeshExport, WithoutDecimationEveryCellIsMeshed) {
   EXPECT_NEAR(st.volume, M_PI * 64.0 * 0.8, M_PI * 64.0 * 0.8 * 0.01);
 }
 
+// When the decimated mesh fails its check, the fine mesh is made again and written: the very mesh
+// made without decimation.
+TEST(MeshExport, AFailedDecimationWritesTheFineMesh) {
+  const Model model = modelOf(kPlate);
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.3;
+  o.rejectDecimated = true;
+  MeshStats st;
+  auto fallback = meshModel(model, o, &st);
+  ASSERT_TRUE(fallback.ok()) << fallback.error();
+  EXPECT_FALSE(st.decimated);
+  EXPECT_EQ(st.triangles, st.fineTriangles);
+  o.rejectDecimated = false;
+  o.maxError = 0.0;
+  auto fine = meshModel(model, o);
+  ASSERT_TRUE(fine.ok()) << fine.error();
+  EXPECT_EQ(checkClosedManifold(*fallback), "");
+  ASSERT_EQ(fallback->vertices, fine->vertices);
+  ASSERT_EQ(fallback->triangles, fine->triangles);
+}
+
 TEST(MeshExport, CheckFindsOpenAndFlippedMeshes) {
   TriangleMesh tet;
   tet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
