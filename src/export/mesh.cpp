@@ -44,6 +44,14 @@ std::uint64_t edgeKey(int i, int j, int k, int dir) {
          (static_cast<std::uint64_t>(k) << 3) | static_cast<std::uint64_t>(dir);
 }
 
+// Whether the edge of `key` lies in a face of its block (every axis it does not run along at a
+// multiple of kBlock): only such an edge, and its vertex, can be in two blocks.
+bool edgeOnBlockFace(std::uint64_t key) {
+  const auto i = static_cast<int>(key >> 43), j = static_cast<int>((key >> 22) & ((1u << 21) - 1)),
+             k = static_cast<int>((key >> 3) & ((1u << 19) - 1)), dir = static_cast<int>(key & 7);
+  return (i % kBlock == 0 && !(dir & 1)) || (j % kBlock == 0 && !(dir & 2)) || (k % kBlock == 0 && !(dir & 4));
+}
+
 struct BlockOut {
   std::vector<std::uint64_t> keys;
   std::vector<std::array<float, 3>> pos;  // the mesh's floats (found in double)
@@ -314,17 +322,12 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     });
     // Blocks share the vertices of their common faces: merge by edge key, in block order. Only an
     // edge lying in a block's face can be in two blocks; the others (most) are new vertices.
-    auto shared = [](std::uint64_t key) {
-      const auto i = static_cast<int>(key >> 43), j = static_cast<int>((key >> 22) & ((1u << 21) - 1)),
-                 k = static_cast<int>((key >> 3) & ((1u << 19) - 1)), dir = static_cast<int>(key & 7);
-      return (i % kBlock == 0 && !(dir & 1)) || (j % kBlock == 0 && !(dir & 2)) || (k % kBlock == 0 && !(dir & 4));
-    };
     TriangleMesh mesh;
     size_t nv = 0, nt = 0, ns = 0;
     for (const auto& o : outs) {
       nv += o.keys.size();
       nt += o.tris.size();
-      for (std::uint64_t key : o.keys) ns += shared(key) ? 1 : 0;
+      for (std::uint64_t key : o.keys) ns += edgeOnBlockFace(key) ? 1 : 0;
     }
     std::unordered_map<std::uint64_t, std::uint32_t> global;
     global.reserve(ns);
@@ -335,7 +338,7 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
       remap.resize(o.keys.size());
       for (size_t v = 0; v < o.keys.size(); ++v) {
         const auto next = static_cast<std::uint32_t>(mesh.vertices.size());
-        if (shared(o.keys[v])) {
+        if (edgeOnBlockFace(o.keys[v])) {
           auto [it, fresh] = global.try_emplace(o.keys[v], next);
           remap[v] = it->second;
           if (!fresh) continue;
@@ -347,10 +350,10 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
       for (const auto& t : o.tris) mesh.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
       o = BlockOut{};
     }
+    weldFloats(mesh);
     return mesh;
   };
   TriangleMesh mesh = fineMesh(true);
-  weldFloats(mesh);
   st.fineTriangles = mesh.triangles.size();
   if (mesh.triangles.empty()) return fail("the model has no surface inside its bounds (nothing to mesh)");
   report(0.85);
@@ -362,7 +365,6 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     if (!problem.empty()) {
       mesh = {};
       mesh = fineMesh(false);  // keep the fine mesh rather than a broken one
-      weldFloats(mesh);
     } else {
       st.decimated = true;
     }

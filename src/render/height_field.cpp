@@ -244,10 +244,8 @@ void HeightField::updateCavity(const SampleRect& r) {
   for (const Tap& t : taps_) tiLo = std::min(tiLo, t.di), tiHi = std::max(tiHi, t.di), tjLo = std::min(tjLo, t.dj), tjHi = std::max(tjHi, t.dj);
   thread_local std::vector<float> acc;
   auto edge = [&](int i, int j) {
-    const double x = sampleX(i), y = sampleY(j);
-    double ring = 0.0;
-    for (const auto& u : kCavityRing) ring += valueBilinear(x + kCavityReach * u[0], y + kCavityReach * u[1]);
-    cavity_[static_cast<size_t>(j) * nx_ + i] = static_cast<float>(ring / 6.0 - at(i, j).d);
+    const double ring = cavityRingMean(sampleX(i), sampleY(j), [&](double x, double y) { return valueBilinear(x, y); });
+    cavity_[static_cast<size_t>(j) * nx_ + i] = static_cast<float>(ring - at(i, j).d);
   };
   for (int j = r.j0; j <= r.j1; ++j) {
     const bool rowInside = j + tjLo >= 0 && j + tjHi <= ny_ - 1;
@@ -271,13 +269,7 @@ void HeightField::updateCavity(const SampleRect& r) {
 
 double HeightField::cavityDepth(double x, double y) const {
   if (cavity_.empty()) return 0.0;
-  const double fx = std::clamp((x - x0_) * invS_, 0.0, nx_ - 1.0), fy = std::clamp((y - y0_) * invS_, 0.0, ny_ - 1.0);
-  const int i = std::min(static_cast<int>(fx), nx_ - 2), j = std::min(static_cast<int>(fy), ny_ - 2);
-  const double u = fx - i, v = fy - j;
-  const float* r0 = &cavity_[static_cast<size_t>(j) * nx_ + i];
-  const float* r1 = r0 + nx_;
-  const double a = r0[0] + u * (r0[1] - r0[0]), b = r1[0] + u * (r1[1] - r1[0]);
-  return a + v * (b - a);
+  return bilinear(x, y, [&](size_t k) { return cavity_[k]; });
 }
 
 void HeightField::updateLevels(int la0, int lb0, int la1, int lb1) {
@@ -335,14 +327,18 @@ double HeightField::value(double x, double y) const {
   return bv.h0 * a0 + bv.h1 * a1 + s * (bv.g0 * b0 + bv.g1 * b1);
 }
 
-double HeightField::valueBilinear(double x, double y) const {
+template <class Get>
+double HeightField::bilinear(double x, double y, const Get& get) const {
   const double fx = std::clamp((x - x0_) * invS_, 0.0, nx_ - 1.0), fy = std::clamp((y - y0_) * invS_, 0.0, ny_ - 1.0);
   const int i = std::min(static_cast<int>(fx), nx_ - 2), j = std::min(static_cast<int>(fy), ny_ - 2);
   const double u = fx - i, v = fy - j;
-  const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
-  const Sample* r1 = r0 + nx_;
-  const double a = r0[0].d + u * (r0[1].d - r0[0].d), b = r1[0].d + u * (r1[1].d - r1[0].d);
+  const size_t k0 = static_cast<size_t>(j) * nx_ + i, k1 = k0 + static_cast<size_t>(nx_);
+  const double a = get(k0) + u * (get(k0 + 1) - get(k0)), b = get(k1) + u * (get(k1 + 1) - get(k1));
   return a + v * (b - a);
+}
+
+double HeightField::valueBilinear(double x, double y) const {
+  return bilinear(x, y, [&](size_t k) { return samples_[k].d; });
 }
 
 void HeightField::valueAndGradient(double x, double y, double& v, double& gx, double& gy) const {

@@ -133,6 +133,10 @@ class HeightField {
   void updateLeaves(int la0, int lb0, int la1, int lb1);
   void updateLevels(int la0, int lb0, int la1, int lb1);
   void updateCavity(const SampleRect& r);
+  // A lattice's values (get(k) of sample k = j nx + i, a float) bilinear at (x, y), clamped to the
+  // domain.
+  template <class Get>
+  double bilinear(double x, double y, const Get& get) const;
   // A leaf's bounds from the extremes of its patches' Bezier nets (values, u and v derivatives).
   Node leafNode(double lo, double hi, double uLo, double uHi, double vLo, double vHi) const;
 

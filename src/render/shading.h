@@ -50,6 +50,13 @@ inline constexpr double kCavityRing[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, 
 inline constexpr double kCavityHalfDepth = 0.1;  // mm
 template <class D>
 double cavityAt(double x, double y, const D& displacement);
+// The mean of D on that ring around (x, y) (the cavity's depth is it less D at the point).
+template <class D>
+double cavityRingMean(double x, double y, const D& displacement) {
+  double ring = 0.0;
+  for (const auto& u : kCavityRing) ring += displacement(x + kCavityReach * u[0], y + kCavityReach * u[1]);
+  return ring / 6.0;
+}
 // The cavity term of a depth below the ring's mean (the renderer keeps the depth per sample of its
 // field: HeightField::cavityDepth()).
 inline double cavityOfDepth(double depth) { return depth <= 0 ? 0.0 : depth / (depth + kCavityHalfDepth); }
@@ -68,9 +75,7 @@ double cavityAt(double x, double y, const D& displacement) {
   // of a raised rim. The renderer keeps this depth at the samples of its field and interpolates it
   // (HeightField::cavityDepth: one lookup a hit instead of seven scattered ones).
   const double d = displacement(x, y);
-  double ring = 0.0;
-  for (const auto& u : kCavityRing) ring += displacement(x + kCavityReach * u[0], y + kCavityReach * u[1]);
-  return cavityOfDepth(ring / 6.0 - d);
+  return cavityOfDepth(cavityRingMean(x, y, displacement) - d);
 }
 
 }  // namespace emboss
