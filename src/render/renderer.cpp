@@ -130,15 +130,29 @@ glm::dvec3 Renderer::sample(double sx, double sy, bool field, const Rect& reach,
 }
 
 std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                                             std::vector<std::uint32_t>& scratch, glm::vec3& normalOut) const {
+                                             std::vector<std::uint32_t>& scratch, glm::vec3& normalOut, double* kept,
+                                             bool reuse) const {
   normalOut = glm::vec3(0.0f);
-  // Outside the projection of every surface the ray misses for certain: not even set up.
-  if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
-      (field && !outlineMask_.empty() && outlineMaskMisses(sx, sy))) {
-    ++st.rays;
-    return std::nullopt;
+  std::optional<Hit> hit;
+  if (kept && reuse && !std::isnan(*kept)) {
+    // The hit the ray found before, which no change since can have moved: the same point (the
+    // same t on the same ray), its normal from the field as the trace gives it.
+    ++st.reshaded;
+    if (std::isinf(*kept)) return std::nullopt;
+    const Ray ray = camera_->rayAt(sx, sy);
+    const glm::dvec3 p = ray.origin + *kept * ray.dir;
+    hit = Hit{p, fieldNormal(p, st, scratch), ray.dir, *kept};
+  } else {
+    // Outside the projection of every surface the ray misses for certain: not even set up.
+    if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
+        (field && !outlineMask_.empty() && outlineMaskMisses(sx, sy))) {
+      ++st.rays;
+      if (kept) *kept = std::numeric_limits<double>::infinity();
+      return std::nullopt;
+    }
+    hit = field ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
+    if (kept) *kept = hit ? hit->t : std::numeric_limits<double>::infinity();
   }
-  const auto hit = field ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
   if (!hit) return std::nullopt;
   normalOut = glm::vec3(hit->n);
   double cavity = 0.0;
@@ -165,7 +179,12 @@ bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, cons
   return render(image, PixelSpans::of(grownWithin(rectIn, 0, camera_->width(), camera_->height())), stats, cancel);
 }
 
-bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stats, const std::atomic_bool* cancel) {
+bool Renderer::render(Image& image, const PixelSpans& spans, RenderStats* stats, const std::atomic_bool* cancel) {
+  return render(image, spans, stats, cancel, options_.reuseHits);
+}
+
+bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stats, const std::atomic_bool* cancel,
+                      bool reuse) {
   const int w = camera_->width(), h = camera_->height();
   if (image.width != w || image.height != h) image = Image(w, h);
   const PixelSpans spans = spansIn.grown(0, w, h);  // clipped to the image
@@ -224,9 +243,14 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   const Rect reach = options_.cullOutsideClip ? projectBox(field ? fieldClip_ : bounds_) : Rect{0, 0, w, h};
   if (field) updateOutlineMask();
   // A miss's centre colour (the backdrop) is only needed on an edge: found there.
+  // The field tracer keeps every centre ray's hit (hitCaches_), and with `reuse` shades a kept one
+  // again instead of tracing.
+  HitCache& cache = hitCaches_[0];
+  double* const kept = field && cache.t.size() == static_cast<size_t>(w) * h ? cache.t.data() : nullptr;
   const bool traced = pass(ringSpans, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     const size_t i = at(x, y);
-    if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i])) centre[i] = glm::vec3(*c), hits[i] = 1;
+    double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;
+    if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i], k, reuse)) centre[i] = glm::vec3(*c), hits[i] = 1;
   });
   if (!traced) return false;
   return pass(spans, &RenderStats::shadeSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
@@ -272,22 +296,22 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
 }
 
 bool Renderer::renderFull(Image& image, RenderStats* stats, const std::atomic_bool* cancel) {
-  return render(image, Rect{0, 0, camera_->width(), camera_->height()}, stats, cancel);
+  return render(image, PixelSpans::of(Rect{0, 0, camera_->width(), camera_->height()}), stats, cancel, false);
 }
 
 // ---------------------------------------------------------------- dirty regions
 
-Rect Renderer::projectBox(const Box3& b) const {
+Rect Renderer::projectBox(const Camera& camera, const Box3& b) {
   double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
   for (double x : {b.x0, b.x1})
     for (double y : {b.y0, b.y1})
       for (double z : {b.z0, b.z1}) {
-        const auto q = camera_->project({x, y, z});
-        if (!q) return {0, 0, camera_->width(), camera_->height()};
+        const auto q = camera.project({x, y, z});
+        if (!q) return {0, 0, camera.width(), camera.height()};
         x0 = std::min(x0, q->x), y0 = std::min(y0, q->y), x1 = std::max(x1, q->x), y1 = std::max(y1, q->y);
       }
   // A ray meets the box only if its pixel centre projects inside the corners' hull.
-  const int w = camera_->width(), h = camera_->height();
+  const int w = camera.width(), h = camera.height();
   const double lim = 1e6;
   const int cx0 = std::clamp(static_cast<int>(std::floor(std::max(x0, -lim))) - 1, 0, w);
   const int cy0 = std::clamp(static_cast<int>(std::floor(std::max(y0, -lim))) - 1, 0, h);
@@ -358,28 +382,31 @@ PixelSpans Renderer::dirtySpansOfRays(const Model& model, size_t index) const {
   for (const SetOp& so : setOps_)
     if (so.support.overlaps(s)) box.z0 = std::min(box.z0, so.zlo - peak - cell), box.z1 = std::max(box.z1, so.zhi + peak + cell);
 
-  // The same growth around the support's convex pieces instead of its box: each piece's points
-  // ringed by a polygon round a circle of the support's radius plus the growth (the field's
-  // stencil reaches 2 spacings along x and y at once: its diagonal), at the box's lowest and
-  // highest z, projected; the pixels near the hull of each.
-  const auto pieces = op.supportPieces();
+  // The same growth around the support's convex pieces instead of its box (the field's stencil
+  // reaches 2 spacings along x and y at once: its diagonal).
+  return piecesSpans(*camera_, op.supportPieces(), 2.0 * std::sqrt(2.0) * field_.spacing() + cell + kCavityReach, box);
+}
+
+PixelSpans Renderer::piecesSpans(const Camera& camera, const PreparedOp::SupportPieces& pieces, double grow,
+                                 const Box3& box) {
+  // Each piece's points ringed by a polygon round a circle of the support's radius plus `grow`,
+  // at the box's lowest and highest z, projected; the pixels near the hull of each.
   constexpr int kSides = 16;
-  const double radius = (pieces.radius + 2.0 * std::sqrt(2.0) * field_.spacing() + cell + kCavityReach) /
-                        std::cos(std::numbers::pi / kSides);  // the polygon holds the circle
+  const double radius = (pieces.radius + grow) / std::cos(std::numbers::pi / kSides);  // the polygon holds the circle
   static const std::array<glm::dvec2, kSides> kRing = [] {
     std::array<glm::dvec2, kSides> ring;
     for (int k = 0; k < kSides; ++k) ring[k] = {std::cos(2.0 * std::numbers::pi * k / kSides), std::sin(2.0 * std::numbers::pi * k / kSides)};
     return ring;
   }();
-  SpanBuilder spans(camera_->width(), camera_->height());
+  SpanBuilder spans(camera.width(), camera.height());
   std::vector<glm::dvec2> projected;
   for (const auto& piece : pieces.pieces) {
     projected.clear();
     for (const Vec2& c : piece)
       for (const glm::dvec2& u : kRing) {
         for (double z : {box.z0, box.z1}) {
-          const auto p = camera_->project({c.x + radius * u.x, c.y + radius * u.y, z});
-          if (!p) return PixelSpans::of(projectBox(box));
+          const auto p = camera.project({c.x + radius * u.x, c.y + radius * u.y, z});
+          if (!p) return PixelSpans::of(projectBox(camera, box));
           projected.push_back(*p);
         }
       }

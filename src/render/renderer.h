@@ -30,12 +30,14 @@ struct RenderStats {
   double traceSeconds = 0.0;      // time spent finding surfaces (wall clock per tile, summed over tiles)
   double shadeSeconds = 0.0;      // time spent on the second pass: edges' extra rays, sRGB (likewise)
   std::uint64_t edgePixels = 0;   // pixels anti-aliased with two extra rays
+  std::uint64_t reshaded = 0;     // centre rays not traced again: their kept hit shaded anew
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
   double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
   RenderStats& operator+=(const RenderStats& o) {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
     fieldEvaluations += o.fieldEvaluations, edgePixels += o.edgePixels, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
+    reshaded += o.reshaded;
     return *this;
   }
 };
@@ -50,6 +52,10 @@ struct RenderOptions {
   // Pixels outside the projection of the box that holds every surface are misses without a ray
   // (false: every pixel traced; the same picture, slower; for tests).
   bool cullOutsideClip = true;
+  // Field tracer, dirty updates: a pixel whose ray's hit the change cannot move (only its shading:
+  // the cavity term, a patina stroke) is shaded again at the hit kept from its last trace instead
+  // of traced (false: every ray traced; the same picture, slower; for comparison).
+  bool reuseHits = true;
 };
 
 // Two tracers share one contract (docs/rendering.md): a pixel's colour depends on nothing but the
@@ -84,7 +90,8 @@ class Renderer {
 
   // Traces every pixel of `rect` into `image` (sized to the camera). Returns false if cancelled
   // (the pixels of `rect` are then partly old); a frame superseded by a newer one is cancelled by
-  // setting `cancel` from any thread.
+  // setting `cancel` from any thread. With RenderOptions::reuseHits a pixel the last sync() cannot
+  // have moved the hit of is shaded at its kept hit; renderFull() traces every ray.
   bool render(Image& image, const Rect& rect, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
   // The same over the pixels of `spans` (a dirty update's, dirtySpans()).
   bool render(Image& image, const PixelSpans& spans, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
@@ -119,7 +126,21 @@ class Renderer {
  private:
   struct Hit {
     glm::dvec3 p, n, dir;
+    double t = 0.0;  // p = origin + t dir of the pixel's ray
   };
+  // The centre rays' hits at one camera: per pixel t along the ray, +inf a miss, NaN not known.
+  // Kept while the geometry those rays saw stands: sync() forgets the pixels a change can move
+  // (the projection of what it changes in f, without the shading's reach), a change of the set
+  // operations or a rebuild all of them. The last two cameras' (a preview's size and the frame's).
+  struct HitCache {
+    std::optional<Camera> camera;
+    std::vector<double> t;
+  };
+  HitCache hitCaches_[2];  // [0]: the current camera's
+  // Forgets the kept hits a sync() may have moved: `followed` whether the model was the one
+  // followed before, `setIdsBefore` the set operations' ids before it.
+  void forgetMovedHits(bool followed, const std::vector<std::uint64_t>& setIdsBefore);
+  bool render(Image& image, const PixelSpans& spans, RenderStats* stats, const std::atomic_bool* cancel, bool reuse);
   struct SetOp {
     std::uint32_t index;
     Box2 support;
@@ -134,6 +155,8 @@ class Renderer {
     bool append;          // operation `index` appended (else: `region` recomputed)
     std::uint32_t index;
     Box2 region;
+    double peak = 0.0;    // how far the operation appended or removed moves the sheet at most
+    const PreparedOp* op = nullptr;  // that operation, while sync() runs (null: not known)
   };
   struct RayContext;
 
@@ -148,8 +171,11 @@ class Renderer {
   std::optional<Hit> traceField(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
   // The linear colour of the ray through (sx, sy) where it hits (normal gets the hit's unit
   // normal), nothing where it misses (normal gets zero). Image points outside `reach` miss.
+  // `kept` (field tracer, optional): the pixel's kept hit, used when `reuse` and known, else
+  // written with what the trace found.
   std::optional<glm::dvec3> shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                                     std::vector<std::uint32_t>& scratch, glm::vec3& normal) const;
+                                     std::vector<std::uint32_t>& scratch, glm::vec3& normal, double* kept = nullptr,
+                                     bool reuse = false) const;
   // The same, the backdrop where it misses.
   glm::dvec3 sample(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
                     std::vector<std::uint32_t>& scratch) const;
@@ -163,7 +189,11 @@ class Renderer {
   bool fieldExcluded(const RayContext& rc, const glm::dvec3& a, const glm::dvec3& b, RenderStats& st,
                      std::vector<std::uint32_t>& scratch) const;
   glm::dvec3 fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
-  Rect projectBox(const Box3& b) const;
+  Rect projectBox(const Box3& b) const { return projectBox(*camera_, b); }
+  static Rect projectBox(const Camera& camera, const Box3& b);
+  // The pixels near the projection of a support's convex pieces grown by `grow` (mm), between the
+  // box's lowest and highest z (the box's projection where a point is behind the camera).
+  static PixelSpans piecesSpans(const Camera& camera, const PreparedOp::SupportPieces& pieces, double grow, const Box3& box);
 
   ThreadPool& pool_;
   const Model* model_ = nullptr;
@@ -191,6 +221,7 @@ class Renderer {
   std::shared_ptr<const Workpiece> fieldWorkpiece_;  // held: its address is never another workpiece's
   std::vector<std::uint64_t> fieldIds_;  // ids of the operations summed into the field, by index
   std::vector<Box2> fieldSupports_;      // their supports
+  std::vector<double> fieldPeaks_;       // and how far each moves the sheet at most (peakOf)
   // The samples under the last offset appended, as they were before it (an undo or a replacement
   // of it puts them back).
   struct SavedSamples {

@@ -452,7 +452,7 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   if (!tHit) return std::nullopt;
   ++st.hits;
   const glm::dvec3 p = ray.origin + *tHit * ray.dir;
-  return Hit{p, fieldNormal(p, st, scratch), ray.dir};
+  return Hit{p, fieldNormal(p, st, scratch), ray.dir, *tHit};
 }
 
 

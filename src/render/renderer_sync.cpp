@@ -9,6 +9,9 @@ using namespace render_internal;
 // ---------------------------------------------------------------- sync
 
 void Renderer::sync(const Model& model) {
+  const bool followed = model_ == &model && fieldReady_;
+  std::vector<std::uint64_t> setIdsBefore;
+  for (const SetOp& s : setOps_) setIdsBefore.push_back(s.id);
   // Another model is followed from scratch (its operation ids are its own).
   if (model_ != &model) fieldReady_ = false;
   model_ = &model;
@@ -29,10 +32,53 @@ void Renderer::sync(const Model& model) {
     fieldWorkpiece_ = nullptr;
     fieldIds_.clear();
     fieldSupports_.clear();
+    fieldPeaks_.clear();
   }
   syncSetOps(model);
   hasPatina_ = false;
   for (size_t i = 0; i < model.activeCount() && !hasPatina_; ++i) hasPatina_ = model.operations()[i].op().isPatina();
+  forgetMovedHits(followed, setIdsBefore);
+}
+
+void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& setIdsBefore) {
+  // Everything: another model, a rebuilt field, or a change of the set operations (another list,
+  // or an offset under one, which moves its tool with the sheet).
+  bool all = !followed || !fieldReady_ || lastSync_.rebuilt || setOps_.size() != setIdsBefore.size();
+  for (size_t k = 0; k < setOps_.size() && !all; ++k) all = setOps_[k].id != setIdsBefore[k];
+  double peaks = 0.0;  // how far the changes together move the sheet at most, anywhere
+  for (const FieldChange& c : fieldChanges_) {
+    peaks += c.peak;
+    for (const SetOp& s : setOps_) all = all || c.region.overlaps(s.support);
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (HitCache& cache : hitCaches_) {
+    if (!cache.camera) continue;
+    if (all) {
+      std::fill(cache.t.begin(), cache.t.end(), nan);
+      continue;
+    }
+    // What a change of D can move: the hit's sign changes, the values in its cell and its normal
+    // (the field's stencil, two samples round the samples changed), the box dirtySpansOfRays()
+    // projects without the shading's reach; the sheet before and after within `peaks` of now.
+    const Camera& camera = *cache.camera;
+    const int w = camera.width();
+    const Box3 wb = model_->workpiece().bounds();
+    const double cell = step_ + 1e-6, grow = 2.0 * std::sqrt(2.0) * field_.spacing() + cell;
+    const Box2 dom = field_.domain();
+    for (const FieldChange& c : fieldChanges_) {
+      const Box2 s = c.region.grown(grow);
+      HeightField::Bound d = field_.rootBound();
+      const Box2 q{std::max(s.x0, dom.x0), std::max(s.y0, dom.y0), std::min(s.x1, dom.x1), std::min(s.y1, dom.y1)};
+      if (!q.empty()) d = field_.bound(q);
+      const Box3 box{s.x0, s.y0, wb.z0 + d.lo - peaks - cell, s.x1, s.y1, wb.z1 + d.hi + peaks + cell};
+      // Near the operation's convex pieces when it is known, else the box's rectangle.
+      const PixelSpans px = c.op ? piecesSpans(camera, c.op->supportPieces(), grow, box) : PixelSpans::of(projectBox(camera, box));
+      for (int y = px.box.y; y < px.box.y + px.box.h; ++y) {
+        const PixelSpans::Span row = px.row(y);
+        if (!row.empty()) std::fill(cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x0, cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x1, nan);
+      }
+    }
+  }
 }
 
 size_t Renderer::memoryBytes() const {
@@ -72,7 +118,9 @@ void Renderer::rebuildField(const Model& model) {
   const size_t active = model.activeCount();
   fieldIds_.assign(model.operationIds().begin(), model.operationIds().begin() + static_cast<std::ptrdiff_t>(active));
   fieldSupports_.clear();
-  for (size_t i = 0; i < active; ++i) fieldSupports_.push_back(model.operations()[i].support());
+  fieldPeaks_.clear();
+  for (size_t i = 0; i < active; ++i)
+    fieldSupports_.push_back(model.operations()[i].support()), fieldPeaks_.push_back(peakOf(model.operations()[i].op()));
 }
 
 void Renderer::recomputeField(const Model& model, const HeightField::SampleRect& rIn) {
@@ -122,10 +170,11 @@ void Renderer::syncField(const Model& model) {
         field_.add(op, &pool_);
         field_.finish(r, &pool_);
         lastSync_.samplesUpdated += r.count();
-        fieldChanges_.push_back({appended, static_cast<std::uint32_t>(i), op.support()});
+        fieldChanges_.push_back({appended, static_cast<std::uint32_t>(i), op.support(), peakOf(op.op()), &op});
       }
       fieldIds_.push_back(ids[i]);
       fieldSupports_.push_back(op.support());
+      fieldPeaks_.push_back(peakOf(op.op()));
     }
   };
   if (p == fieldIds_.size()) {
@@ -139,9 +188,12 @@ void Renderer::syncField(const Model& model) {
     saved_.valid = false;
     field_.restore(saved_.samples);
     const HeightField::SampleRect old = saved_.samples.r;
-    fieldChanges_.push_back({false, 0, fieldSupports_.back()});
+    // (The operation undone is still the model's, at index p, until another replaces it.)
+    fieldChanges_.push_back({false, 0, fieldSupports_.back(), fieldPeaks_.back(),
+                             p < ops.size() && ids[p] == fieldIds_.back() ? &ops[p] : nullptr});
     fieldIds_.pop_back();
     fieldSupports_.pop_back();
+    fieldPeaks_.pop_back();
     append(p, false);
     field_.finish(old, &pool_);
     lastSync_.samplesUpdated += old.count();
@@ -152,16 +204,17 @@ void Renderer::syncField(const Model& model) {
   // the active offsets, in index order, as a full build does.
   std::vector<HeightField::SampleRect> regions;
   long total = 0;
-  auto note = [&](const Box2& support) {
-    fieldChanges_.push_back({false, 0, support});
+  auto note = [&](const Box2& support, double peak, const PreparedOp* op) {
+    fieldChanges_.push_back({false, 0, support, peak, op});
     const HeightField::SampleRect r = field_.samplesIn(support);
     if (r.empty()) return;
     regions.push_back(r);
     total += r.count();
   };
-  for (size_t i = p; i < fieldIds_.size(); ++i) note(fieldSupports_[i]);
+  for (size_t i = p; i < fieldIds_.size(); ++i)
+    note(fieldSupports_[i], fieldPeaks_[i], i < ops.size() && ids[i] == fieldIds_[i] ? &ops[i] : nullptr);
   for (size_t i = p; i < active; ++i)
-    if (ops[i].op().isOffset()) note(ops[i].support());
+    if (ops[i].op().isOffset()) note(ops[i].support(), peakOf(ops[i].op()), &ops[i]);
   if (total > field_.all().count() / 4) {
     rebuildField(model);
     return;
@@ -173,7 +226,8 @@ void Renderer::syncField(const Model& model) {
   }
   fieldIds_.assign(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(active));
   fieldSupports_.resize(p);
-  for (size_t i = p; i < active; ++i) fieldSupports_.push_back(ops[i].support());
+  fieldPeaks_.resize(p);
+  for (size_t i = p; i < active; ++i) fieldSupports_.push_back(ops[i].support()), fieldPeaks_.push_back(peakOf(ops[i].op()));
 }
 
 double Renderer::peakOf(const Operation& o) const {
@@ -250,10 +304,29 @@ void Renderer::syncSetOps(const Model& model) {
   fieldClip_ = {clip.x0 - m, clip.y0 - m, clip.z0 - m, clip.x1 + m, clip.y1 + m, clip.z1 + m};
 }
 
+namespace {
+
+bool sameCamera(const Camera& a, const Camera& b) {
+  const CameraSpec &p = a.spec(), &q = b.spec();
+  auto same = [](const Vec3& u, const Vec3& v) { return u.x == v.x && u.y == v.y && u.z == v.z; };
+  return a.width() == b.width() && a.height() == b.height() && p.type == q.type && same(p.eye, q.eye) &&
+         same(p.target, q.target) && same(p.up, q.up) && p.fovDeg == q.fovDeg && p.height == q.height;
+}
+
+}  // namespace
+
 void Renderer::setCamera(const Camera& camera) {
   const bool sameSize = camera_ && camera_->width() == camera.width() && camera_->height() == camera.height();
   camera_ = camera;
   ++cameraGeneration_;
+  // The kept hits: this camera's if they are the last two cameras', else none yet.
+  if (!(hitCaches_[0].camera && sameCamera(*hitCaches_[0].camera, camera))) {
+    std::swap(hitCaches_[0], hitCaches_[1]);
+    if (!(hitCaches_[0].camera && sameCamera(*hitCaches_[0].camera, camera))) {
+      hitCaches_[0].camera = camera;
+      hitCaches_[0].t.assign(static_cast<size_t>(camera.width()) * camera.height(), std::numeric_limits<double>::quiet_NaN());
+    }
+  }
   if (sameSize && !backdrop_.empty()) return;
   // The backdrop depends on the pixel and the picture's size alone: computed once per size, the
   // last two sizes kept.

@@ -61,6 +61,23 @@ std::string firstDifference(const Image& a, const Image& b) {
   return {};
 }
 
+// A fresh model and renderer (one thread, other tiles) render the model in full; the first
+// pixel where `image` differs from that, or an empty string.
+std::string againstFresh(const Model& model, const Camera& camera, const RenderOptions& options, const Image& image) {
+  ThreadPool onePool(1);
+  const Model fresh = rebuilt(model);
+  Renderer full(onePool);
+  full.setCamera(camera);
+  full.setShading(shading(fresh));
+  RenderOptions o = options;
+  o.tileSize = 7;
+  full.setOptions(o);
+  full.sync(fresh);
+  Image reference;
+  full.renderFull(reference);
+  return firstDifference(image, reference);
+}
+
 void runCase(const Case& c) {
   SCOPED_TRACE(describe(c));
   PieceOptions opt;
@@ -104,9 +121,9 @@ void runCase(const Case& c) {
   Image image;
   live.renderFull(image);
 
-  ThreadPool onePool(1);
   size_t next = 0;
   long dirtyPixels = 0, framePixels = 0;
+  std::uint64_t reshaded = 0;
   for (int step = 0; step < c.steps; ++step) {
     // Mostly strokes, some undos and redos, now and then a set operation.
     size_t index;
@@ -141,26 +158,19 @@ void runCase(const Case& c) {
     SCOPED_TRACE("step " + std::to_string(step) + ": " + what + " (operation " + std::to_string(index) + ")");
     live.sync(model);
     const PixelSpans dirty = live.dirtySpans(model, index);
-    ASSERT_TRUE(live.render(image, dirty));
+    RenderStats st;
+    ASSERT_TRUE(live.render(image, dirty, &st));
     dirtyPixels += dirty.area();
     framePixels += c.width * c.height;
+    reshaded += st.reshaded;
 
-    // A fresh model and renderer, one thread and other tiles.
-    const Model fresh = rebuilt(model);
-    Renderer full(onePool);
-    full.setCamera(camera);
-    full.setShading(shading(fresh));
-    RenderOptions o = options;
-    o.tileSize = 7;
-    full.setOptions(o);
-    full.sync(fresh);
-    Image reference;
-    full.renderFull(reference);
-    const std::string diff = firstDifference(image, reference);
+    const std::string diff = againstFresh(model, camera, options, image);
     ASSERT_TRUE(diff.empty()) << diff << "; dirty spans' box " << dirty.box.x << "," << dirty.box.y << " " << dirty.box.w << "x" << dirty.box.h;
   }
   // The dirty spans must be a real saving, not the whole frame.
   EXPECT_LT(dirtyPixels, framePixels * 3 / 4);
+  // The field tracer shaded some pixels at their kept hits (what a change's shading alone reaches).
+  if (c.deformation == Deformation::Sheet && !c.exactTracer) EXPECT_GT(reshaded, 0u);
 }
 
 TEST(DirtyRegion, SheetPlateEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Sheet, false, 128, 80, 30, 1}); }
@@ -173,6 +183,81 @@ TEST(DirtyRegion, SheetExactTracerEqualsFullRender) { runCase({PieceShape::Plate
 // A stroke's dirty spans at a kiosk's size: every pixel the stroke changes lies in them, and they
 // are the projection of its support's pieces, not of its box (a round punch, a diagonal line,
 // a raised region, a patina stroke), seen from above and at a slant.
+// The field tracer keeps each pixel's hit and shades it again where a change cannot move it: the
+// same bytes as a fresh render, fewer rays.
+TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
+  PieceOptions opt;
+  opt.width = 48, opt.height = 36;
+  opt.halfThickness = 0.5;
+  opt.toolScale = 1.6;
+  const GeneratedPiece piece = generatePiece(12, 21, opt);
+  PieceRandom rng(77);
+  ThreadPool pool(2);
+  Renderer live(pool);
+  Model model(piece.workpiece, piece.deformation);
+  for (const Operation& op : piece.operations)  // (set operations come last, below)
+    if (!op.isSet()) ASSERT_TRUE(model.add(op).ok());
+  const Camera camera(piece.camera, 128, 80), small(piece.camera, 64, 40);
+  live.setCamera(camera);
+  live.setShading(shading(model));
+  live.sync(model);
+  Image image;
+  RenderStats first;
+  live.renderFull(image, &first);
+  EXPECT_EQ(first.reshaded, 0u);  // a full frame traces every ray
+  const RenderOptions options;
+  auto update = [&](size_t index) {
+    live.sync(model);
+    RenderStats st;
+    EXPECT_TRUE(live.render(image, live.dirtySpans(model, index), &st));
+    const std::string diff = againstFresh(model, camera, options, image);
+    EXPECT_TRUE(diff.empty()) << diff;
+    return st;
+  };
+  auto patina = [&] {
+    Operation op;
+    op.kind = OpKind::Patina;
+    op.points = randomTraceSegment(rng, piece, opt.toolScale).points;
+    op.tinge = 2;
+    op.a = 3.0;
+    op.strength = 0.8;
+    return op;
+  };
+
+  // A patina stroke moves nothing: every centre ray is shaded at its kept hit; only the edges'
+  // extra rays are traced.
+  ASSERT_TRUE(model.add(patina()).ok());
+  RenderStats st = update(model.activeCount() - 1);
+  EXPECT_GT(st.reshaded, 100u);
+  EXPECT_EQ(st.rays, 2 * st.edgePixels);
+  // A punch: the rays near it are traced, those only its cavity reach adds are shaded again.
+  ASSERT_TRUE(model.add(randomPunch(rng, piece, opt.toolScale)).ok());
+  st = update(model.activeCount() - 1);
+  EXPECT_GT(st.reshaded, 0u);
+  EXPECT_GT(st.rays, 2 * st.edgePixels + 100);
+  // A preview's camera and back: the frame's hits are still kept. Then the punch undone.
+  live.setCamera(small);
+  Image low;
+  live.renderFull(low);
+  live.setCamera(camera);
+  model.undo();
+  st = update(model.activeCount());
+  EXPECT_GT(st.reshaded, 0u);
+  // A set operation may move every hit near its tool (and its tool with the sheet): no kept hit
+  // is used after it until traced again.
+  ASSERT_TRUE(model.add(randomSetOperation(rng, piece, 1.0)).ok());
+  st = update(model.activeCount() - 1);
+  EXPECT_EQ(st.reshaded, 0u);
+  // Without reuse every ray is traced, to the same bytes.
+  RenderOptions noReuse;
+  noReuse.reuseHits = false;
+  live.setOptions(noReuse);
+  ASSERT_TRUE(model.add(patina()).ok());
+  st = update(model.activeCount() - 1);
+  EXPECT_EQ(st.reshaded, 0u);
+  EXPECT_GT(st.rays, 2 * st.edgePixels);
+}
+
 TEST(DirtyRegion, AStrokesSpansHoldWhatItChangesAndLessThanItsRectangle) {
   const GeneratedPiece piece = generatePiece(60, 21, PieceOptions{PieceShape::Plate, 60.0, 40.0, 0.4, Deformation::Sheet, 1.0});
   auto model = piece.makeModel();
