@@ -51,6 +51,7 @@ struct Row {
   double punchMs = 0, punchWorstMs = 0, segmentMs = 0, segmentWorstMs = 0, undoMs = 0;
   double regionMs = 0, regionWorstMs = 0, regionPixels = 0;
   double punchPixels = 0, segmentPixels = 0;
+  double punchReshaded = 0, segmentReshaded = 0;  // of their centre rays, shaded at kept hits (mean)
   double opsPerEval = 0, stepsPerRay = 0, evalsPerRay = 0;
   double baselineMs = 0;  // the baseline's frames interleaved with this piece's (median)
   double exactOpsPerEval = 0, exactWindowMs = 0;
@@ -184,14 +185,17 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
   // undone again (timed apart) so that every stroke lands on the same piece.
   PieceRandom rng(1234);
   // Adds op and traces its dirty spans (timed, into ms and px), then undoes it (into undoMs).
-  auto stroke = [&](const Operation& op, std::vector<double>& ms, double& px, std::vector<double>& undoMs) {
+  auto stroke = [&](const Operation& op, std::vector<double>& ms, double& px, std::vector<double>& undoMs,
+                    double* reshaded = nullptr) {
     auto t = Clock::now();
     (void)model.add(op);
     r.sync(model);
     PixelSpans dirty = r.dirtySpans(model, model.activeCount() - 1);
-    r.render(image, dirty);
+    RenderStats st;
+    r.render(image, dirty, &st);
     ms.push_back(msSince(t));
     px += static_cast<double>(dirty.area());
+    if (reshaded) *reshaded += static_cast<double>(st.reshaded);
     t = Clock::now();
     model.undo();
     r.sync(model);
@@ -200,11 +204,11 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
     undoMs.push_back(msSince(t));
   };
   std::vector<double> punch, segment, undo;
-  double punchPx = 0, segmentPx = 0;
+  double punchPx = 0, segmentPx = 0, punchReshaded = 0, segmentReshaded = 0;
   for (int i = 0; i < 2 * s.strokes; ++i) {
     const bool isPunch = i % 2 == 0;
     const Operation op = isPunch ? randomPunch(rng, piece) : randomTraceSegment(rng, piece);
-    stroke(op, isPunch ? punch : segment, isPunch ? punchPx : segmentPx, undo);
+    stroke(op, isPunch ? punch : segment, isPunch ? punchPx : segmentPx, undo, isPunch ? &punchReshaded : &segmentReshaded);
   }
   // Raised regions (the biggest field update a visitor makes): fewer of them, their undos apart.
   std::vector<double> region, regionUndo;
@@ -217,6 +221,8 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
   row.undoMs = mean(undo);
   row.punchPixels = s.strokes ? punchPx / s.strokes : 0;
   row.segmentPixels = s.strokes ? segmentPx / s.strokes : 0;
+  row.punchReshaded = s.strokes ? punchReshaded / s.strokes : 0;
+  row.segmentReshaded = s.strokes ? segmentReshaded / s.strokes : 0;
 
   // The naive renderer (every operation at every point) and the exact tracer through the index,
   // over a window at the centre of the piece; the field tracer over the same window.
@@ -264,8 +270,11 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
   }
   t += "\nbuild: the first sync (index and displacement field). full frame: wall time of renderFull(). CPU: process CPU time "
        "per frame; trace + shade: thread time summed over tiles. punch / segment update: add + sync + dirty spans (dirtySpans()) "
-       "traced, wall time (mean pixels traced: ";
-  for (const Row& r : rows) t += r.piece + " " + fmt("%.0f", r.punchPixels) + " / " + fmt("%.0f", r.segmentPixels) + "; ";
+       "traced, wall time (mean pixels traced, and of their centre rays those shaded at the hit kept from the last trace "
+       "instead of traced: ";
+  for (const Row& r : rows)
+    t += r.piece + " " + fmt("%.0f", r.punchPixels) + " / " + fmt("%.0f", r.segmentPixels) + " (" + fmt("%.0f", r.punchReshaded) +
+         " / " + fmt("%.0f", r.segmentReshaded) + "); ";
   t += "). region update: the same for a raised region of 24 to 48 points, 6 to 14 mm in radius (the field under it "
        "found a row at a time in " + std::string(simdTargetName()) + " lanes; mean pixels traced: ";
   for (const Row& r : rows) t += r.piece + " " + fmt("%.0f", r.regionPixels) + "; ";
