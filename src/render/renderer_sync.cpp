@@ -41,15 +41,12 @@ void Renderer::sync(const Model& model) {
 }
 
 void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& setIdsBefore) {
-  // Everything: another model, a rebuilt field, or a change of the set operations (another list,
-  // or an offset under one, which moves its tool with the sheet).
+  // Everything: another model, a rebuilt field, or another list of set operations. (An offset
+  // under a set operation moves its tool where the offset reaches: the heights below.)
   bool all = !followed || !fieldReady_ || lastSync_.rebuilt || setOps_.size() != setIdsBefore.size();
   for (size_t k = 0; k < setOps_.size() && !all; ++k) all = setOps_[k].id != setIdsBefore[k];
   double peaks = 0.0;  // how far the changes together move the sheet at most, anywhere
-  for (const FieldChange& c : fieldChanges_) {
-    peaks += c.peak;
-    for (const SetOp& s : setOps_) all = all || c.region.overlaps(s.support);
-  }
+  for (const FieldChange& c : fieldChanges_) peaks += c.peak;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (HitCache& cache : hitCaches_) {
     if (!cache.camera) continue;
@@ -65,18 +62,23 @@ void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& 
     const Box3 wb = model_->workpiece().bounds();
     const double cell = step_ + 1e-6, grow = 2.0 * std::sqrt(2.0) * field_.spacing() + cell;
     const Box2 dom = field_.domain();
+    auto forget = [&](const PixelSpans& px) {
+      for (int y = px.box.y; y < px.box.y + px.box.h; ++y) {
+        const PixelSpans::Span row = px.row(y);
+        if (!row.empty()) std::fill(cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x0, cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x1, nan);
+      }
+    };
     for (const FieldChange& c : fieldChanges_) {
       const Box2 s = c.region.grown(grow);
       HeightField::Bound d = field_.rootBound();
       const Box2 q{std::max(s.x0, dom.x0), std::max(s.y0, dom.y0), std::min(s.x1, dom.x1), std::min(s.y1, dom.y1)};
       if (!q.empty()) d = field_.bound(q);
-      const Box3 box{s.x0, s.y0, wb.z0 + d.lo - peaks - cell, s.x1, s.y1, wb.z1 + d.hi + peaks + cell};
+      Box3 box{s.x0, s.y0, wb.z0 + d.lo - peaks - cell, s.x1, s.y1, wb.z1 + d.hi + peaks + cell};
+      // A set operation's tool moves with the sheet under it, there: its heights too.
+      for (const SetOp& so : setOps_)
+        if (so.support.overlaps(s)) box.z0 = std::min(box.z0, so.zlo - peaks - cell), box.z1 = std::max(box.z1, so.zhi + peaks + cell);
       // Near the operation's convex pieces when it is known, else the box's rectangle.
-      const PixelSpans px = c.op ? piecesSpans(camera, c.op->supportPieces(), grow, box) : PixelSpans::of(projectBox(camera, box));
-      for (int y = px.box.y; y < px.box.y + px.box.h; ++y) {
-        const PixelSpans::Span row = px.row(y);
-        if (!row.empty()) std::fill(cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x0, cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x1, nan);
-      }
+      forget(c.op ? piecesSpans(camera, c.op->supportPieces(), grow, box) : PixelSpans::of(projectBox(camera, box)));
     }
   }
 }

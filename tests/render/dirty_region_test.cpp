@@ -245,9 +245,17 @@ TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
   EXPECT_GT(st.reshaded, 0u);
   // A set operation may move every hit near its tool (and its tool with the sheet): no kept hit
   // is used after it until traced again.
-  ASSERT_TRUE(model.add(randomSetOperation(rng, piece, 1.0)).ok());
+  const Operation set = randomSetOperation(rng, piece, 1.0);
+  ASSERT_TRUE(model.add(set).ok());
   st = update(model.activeCount() - 1);
   EXPECT_EQ(st.reshaded, 0u);
+  // A punch under it moves its tool with the sheet: what the tool can change is traced again too.
+  live.renderFull(image);
+  Operation under = randomPunch(rng, piece, opt.toolScale);
+  under.at.x = set.tool.center.x, under.at.y = set.tool.center.y;
+  ASSERT_TRUE(model.add(under).ok());
+  st = update(model.activeCount() - 1);
+  EXPECT_GT(st.reshaded, 0u);
   // Without reuse every ray is traced, to the same bytes.
   RenderOptions noReuse;
   noReuse.reuseHits = false;
@@ -256,6 +264,44 @@ TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
   st = update(model.activeCount() - 1);
   EXPECT_EQ(st.reshaded, 0u);
   EXPECT_GT(st.rays, 2 * st.edgePixels);
+}
+
+// A bead floating above the sheet moves with the sheet under it: strokes under it reshape it
+// where they reach, at its heights, not the sheet's. The kept hits there are traced again.
+TEST(DirtyRegion, KeptHitsUnderASetOperationsToolAreTracedAgain) {
+  PieceOptions opt;
+  opt.width = 48, opt.height = 36;
+  opt.halfThickness = 0.5;
+  const GeneratedPiece piece = generatePiece(1, 5, opt);
+  PieceRandom rng(91);
+  ThreadPool pool(2);
+  Renderer live(pool);
+  Model model(piece.workpiece, piece.deformation);
+  Operation bead = randomSetOperation(rng, piece, 2.0);
+  bead.kind = OpKind::BlendUnion;
+  bead.tool.center = {0.0, 0.0, 0.5 + 6.0 * bead.tool.r};
+  ASSERT_TRUE(model.add(bead).ok());
+  const Camera camera(piece.camera, 160, 100);
+  live.setCamera(camera);
+  live.setShading(shading(model));
+  live.sync(model);
+  Image image;
+  live.renderFull(image);
+  const RenderOptions options;
+  std::uint64_t reshaded = 0;
+  for (int k = 0; k < 6; ++k) {
+    Operation punch = randomPunch(rng, piece);
+    punch.at.x = bead.tool.center.x + rng.uniform(-2.0, 2.0), punch.at.y = bead.tool.center.y + rng.uniform(-2.0, 2.0);
+    if (k % 2 == 1) punch.p = -punch.p;  // from both sides
+    ASSERT_TRUE(model.add(punch).ok());
+    live.sync(model);
+    RenderStats st;
+    ASSERT_TRUE(live.render(image, live.dirtySpans(model, model.activeCount() - 1), &st));
+    reshaded += st.reshaded;
+    const std::string diff = againstFresh(model, camera, options, image);
+    ASSERT_TRUE(diff.empty()) << "punch " << k << ": " << diff;
+  }
+  EXPECT_GT(reshaded, 0u);
 }
 
 TEST(DirtyRegion, AStrokesSpansHoldWhatItChangesAndLessThanItsRectangle) {
