@@ -185,11 +185,17 @@ TEST(DirtyRegion, SheetExactTracerEqualsFullRender) { runCase({PieceShape::Plate
 // a raised region, a patina stroke), seen from above and at a slant.
 // The field tracer keeps each pixel's hit and shades it again where a change cannot move it: the
 // same bytes as a fresh render, fewer rays.
-TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
+// A 48 x 36 mm plate, 1 mm thick.
+PieceOptions smallPlate(double toolScale) {
   PieceOptions opt;
   opt.width = 48, opt.height = 36;
   opt.halfThickness = 0.5;
-  opt.toolScale = 1.6;
+  opt.toolScale = toolScale;
+  return opt;
+}
+
+TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
+  const PieceOptions opt = smallPlate(1.6);
   const GeneratedPiece piece = generatePiece(12, 21, opt);
   PieceRandom rng(77);
   ThreadPool pool(2);
@@ -269,10 +275,7 @@ TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
 // A bead floating above the sheet moves with the sheet under it: strokes under it reshape it
 // where they reach, at its heights, not the sheet's. The kept hits there are traced again.
 TEST(DirtyRegion, KeptHitsUnderASetOperationsToolAreTracedAgain) {
-  PieceOptions opt;
-  opt.width = 48, opt.height = 36;
-  opt.halfThickness = 0.5;
-  const GeneratedPiece piece = generatePiece(1, 5, opt);
+  const GeneratedPiece piece = generatePiece(1, 5, smallPlate(1.0));
   PieceRandom rng(91);
   ThreadPool pool(2);
   Renderer live(pool);
