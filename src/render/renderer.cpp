@@ -370,21 +370,27 @@ PixelSpans Renderer::dirtySpansOfRays(const Model& model, size_t index) const {
   // twists read the neighbours' slopes) the patches up to two samples further. A patina stroke
   // changes the colour of the hits under its support only (its peak is 0): the same box serves.
   // The shading reads D within kCavityReach of a hit (the cavity term).
-  const double grow = 2.0 * field_.spacing() + cell + kCavityReach;
-  const Box2 s = op.support().grown(grow);
-  const double peak = peakOf(op.op());
-  HeightField::Bound d = field_.rootBound();
-  const Box2 dom = field_.domain();
-  const Box2 q{std::max(s.x0, dom.x0), std::max(s.y0, dom.y0), std::min(s.x1, dom.x1), std::min(s.y1, dom.y1)};
-  if (!q.empty()) d = field_.bound(q);
-  // Before and after differ by at most the operation's peak.
-  Box3 box{s.x0, s.y0, wb.z0 + d.lo - peak - cell, s.x1, s.y1, wb.z1 + d.hi + peak + cell};
-  for (const SetOp& so : setOps_)
-    if (so.support.overlaps(s)) box.z0 = std::min(box.z0, so.zlo - peak - cell), box.z1 = std::max(box.z1, so.zhi + peak + cell);
+  const Box3 box = offsetReach(wb, op.support(), 2.0 * field_.spacing() + cell + kCavityReach,
+                               peakOf(op.op()));
 
   // The same growth around the support's convex pieces instead of its box (the field's stencil
   // reaches 2 spacings along x and y at once: its diagonal).
   return piecesSpans(*camera_, op.supportPieces(), 2.0 * std::sqrt(2.0) * field_.spacing() + cell + kCavityReach, box);
+}
+
+Box3 Renderer::offsetReach(const Box3& wb, const Box2& support, double grow, double peak) const {
+  const double cell = step_ + 1e-6;
+  const Box2 s = support.grown(grow);
+  HeightField::Bound d = field_.rootBound();
+  const Box2 dom = field_.domain();
+  const Box2 q{std::max(s.x0, dom.x0), std::max(s.y0, dom.y0), std::min(s.x1, dom.x1), std::min(s.y1, dom.y1)};
+  if (!q.empty()) d = field_.bound(q);
+  // Before and after differ by at most the peak.
+  Box3 box{s.x0, s.y0, wb.z0 + d.lo - peak - cell, s.x1, s.y1, wb.z1 + d.hi + peak + cell};
+  // A set operation's tool moves with the sheet under it: its heights there too.
+  for (const SetOp& so : setOps_)
+    if (so.support.overlaps(s)) box.z0 = std::min(box.z0, so.zlo - peak - cell), box.z1 = std::max(box.z1, so.zhi + peak + cell);
+  return box;
 }
 
 PixelSpans Renderer::piecesSpans(const Camera& camera, const PreparedOp::SupportPieces& pieces, double grow,

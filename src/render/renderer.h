@@ -194,6 +194,11 @@ class Renderer {
   // The pixels near the projection of a support's convex pieces grown by `grow` (mm), between the
   // box's lowest and highest z (the box's projection where a point is behind the camera).
   static PixelSpans piecesSpans(const Camera& camera, const PreparedOp::SupportPieces& pieces, double grow, const Box3& box);
+  // Where an offset over `support` can change f (the field tracer): the support grown by `grow`,
+  // between the sheet's lowest and highest z there (workpiece `wb` moved by the field's range)
+  // widened by `peak` (what the offset moves it by at most) and a cell, and the heights of the set
+  // operations' tools over it.
+  Box3 offsetReach(const Box3& wb, const Box2& support, double grow, double peak) const;
 
   ThreadPool& pool_;
   const Model* model_ = nullptr;

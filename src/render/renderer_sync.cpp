@@ -59,9 +59,7 @@ void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& 
     // projects without the shading's reach; the sheet before and after within `peaks` of now.
     const Camera& camera = *cache.camera;
     const int w = camera.width();
-    const Box3 wb = model_->workpiece().bounds();
-    const double cell = step_ + 1e-6, grow = 2.0 * std::sqrt(2.0) * field_.spacing() + cell;
-    const Box2 dom = field_.domain();
+    const double grow = 2.0 * std::sqrt(2.0) * field_.spacing() + step_ + 1e-6;
     auto forget = [&](const PixelSpans& px) {
       for (int y = px.box.y; y < px.box.y + px.box.h; ++y) {
         const PixelSpans::Span row = px.row(y);
@@ -69,14 +67,7 @@ void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& 
       }
     };
     for (const FieldChange& c : fieldChanges_) {
-      const Box2 s = c.region.grown(grow);
-      HeightField::Bound d = field_.rootBound();
-      const Box2 q{std::max(s.x0, dom.x0), std::max(s.y0, dom.y0), std::min(s.x1, dom.x1), std::min(s.y1, dom.y1)};
-      if (!q.empty()) d = field_.bound(q);
-      Box3 box{s.x0, s.y0, wb.z0 + d.lo - peaks - cell, s.x1, s.y1, wb.z1 + d.hi + peaks + cell};
-      // A set operation's tool moves with the sheet under it, there: its heights too.
-      for (const SetOp& so : setOps_)
-        if (so.support.overlaps(s)) box.z0 = std::min(box.z0, so.zlo - peaks - cell), box.z1 = std::max(box.z1, so.zhi + peaks + cell);
+      const Box3 box = offsetReach(model_->workpiece().bounds(), c.region, grow, peaks);
       // Near the operation's convex pieces when it is known, else the box's rectangle.
       forget(c.op ? piecesSpans(camera, c.op->supportPieces(), grow, box) : PixelSpans::of(projectBox(camera, box)));
     }
