@@ -22,30 +22,32 @@ namespace emboss {
 namespace {
 
 // Radiance of the studio around the bench, by direction (z is toward the viewer's side of the
-// sheet, y up the bench), in warm museum light (about 3200 K). A dark room; a large overhead panel
-// graduated from dim at the visitor's side to bright at the far side, which a flat sheet mirrors as
-// a falloff across its face; a key softbox high to the left, a cooler fill to the right, a strip
-// light above; a warm floor bounce. Dark surroundings and bright, bounded lights are what make a
-// photograph of polished metal read as metal.
+// sheet, y up the bench), in warm museum light (about 3000 K). A dark room; overhead, a ceiling of
+// strip softboxes (bright bands running up the bench with dark gaps between), graduated from dim
+// at the visitor's side to bright at the far side; a key softbox high to the left, a cooler fill to
+// the right, a strip light above; a warm floor bounce. Dark surroundings and bright, bounded lights
+// are what make a photograph of polished metal read as metal: a flat sheet mirrors the strips as
+// bands, and the hammer's dimples break them into the glints of a planished sheet. (One uniform
+// overhead panel, as before, gave a flat face of one colour: pale salmon copper.)
 struct Light {
   glm::dvec3 dir;     // unit, toward the light's centre
   double cosEdge;     // cosine of its angular radius
   double soft;        // width of its soft edge, in cosine
   glm::dvec3 colour;  // radiance at full power
   double power;
-  bool graduated;     // the overhead panel: power ramps up with the direction's height
+  bool graduated;     // the overhead strips: power ramps up with the direction's height
 };
 
 const std::array<Light, 4>& lights() {
   static const std::array<Light, 4> kLights = [] {
-    const glm::dvec3 warm(1.0, 0.88, 0.72), cool(0.88, 0.92, 1.0);
+    const glm::dvec3 warm(1.0, 0.85, 0.65), cool(0.88, 0.92, 1.0);
     auto light = [](glm::dvec3 centre, double size, double soft, glm::dvec3 colour, double power, bool graduated) {
       return Light{glm::normalize(centre), std::cos(size), soft, colour, power, graduated};
     };
-    return std::array<Light, 4>{light({-0.05, 0.42, 0.90}, 0.42, 0.15, warm, 1.5, true),
-                                light({-0.55, 0.65, 0.55}, 0.30, 0.03, warm, 6.0, false),
-                                light({0.65, 0.45, 0.60}, 0.22, 0.03, cool, 2.5, false),
-                                light({0.0, 0.9, 0.45}, 0.10, 0.03, warm, 8.0, false)};
+    return std::array<Light, 4>{light({-0.05, 0.42, 0.90}, 0.42, 0.15, warm, 3.6, true),
+                                light({-0.55, 0.65, 0.55}, 0.30, 0.03, warm, 3.6, false),
+                                light({0.65, 0.45, 0.60}, 0.22, 0.03, cool, 1.5, false),
+                                light({0.0, 0.9, 0.45}, 0.10, 0.03, warm, 4.8, false)};
   }();
   return kLights;
 }
@@ -56,19 +58,24 @@ glm::dvec3 environment(const glm::dvec3& d) { return studioEnvironment(d); }
 
 glm::dvec3 studioEnvironment(const glm::dvec3& d) {
   const double up = std::clamp(0.5 + 0.5 * d.y, 0.0, 1.0);
-  glm::dvec3 c = glm::mix(glm::dvec3(0.013, 0.011, 0.008), glm::dvec3(0.070, 0.056, 0.040), up);
+  glm::dvec3 c = glm::mix(glm::dvec3(0.0156, 0.0132, 0.0096), glm::dvec3(0.084, 0.0672, 0.048), up);
   for (const Light& l : lights()) {
     const double k = glm::dot(d, l.dir);
     if (k <= l.cosEdge - l.soft) continue;
     double power = l.power;
     if (l.graduated) {
       const double ramp = std::clamp((d.y - 0.05) / 0.6, 0.0, 1.0);
-      power = 0.06 + l.power * ramp * ramp;
+      power = 0.072 + l.power * ramp * ramp;
+      // The strips: kStripDuty of every kStripPeriod (radians across), soft-edged.
+      constexpr double kStripPeriod = 0.2, kStripDuty = 0.35, kStripSoft = 0.15, kGap = 0.024;
+      const double u = d.x / kStripPeriod + 10.25, f = u - std::floor(u);
+      const double on = std::clamp((kStripDuty - std::abs(f - 0.5) * 2.0) / kStripSoft + 0.5, 0.0, 1.0);
+      power = kGap + (power - kGap) * on;
     }
     c += l.colour * (power * std::clamp((k - (l.cosEdge - l.soft)) / l.soft, 0.0, 1.0));
   }
   // Floor bounce from below the bench.
-  c += glm::dvec3(0.08, 0.055, 0.035) * std::clamp(-d.y, 0.0, 1.0);
+  c += glm::dvec3(0.096, 0.066, 0.042) * std::clamp(-d.y, 0.0, 1.0);
   return c;
 }
 
@@ -384,6 +391,7 @@ std::array<std::uint8_t, 3> toSrgb8(const glm::dvec3& linear) {
   std::array<std::uint8_t, 3> out{};
   for (int i = 0; i < 3; ++i) {
     double c = std::max(0.0, linear[i]);
+    c = c * c / (c + 0.03);    // a toe: the deep shadows of a camera's curve, which keep the metal's colour
     c = c / (1.0 + 0.25 * c);  // soft shoulder
     c = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
     out[i] = static_cast<std::uint8_t>(std::clamp(std::lround(c * 255.0), 0L, 255L));

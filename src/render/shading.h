@@ -66,7 +66,9 @@ inline double cavityOfDepth(double depth) { return depth <= 0 ? 0.0 : depth / (d
 glm::dvec3 studioEnvironment(const glm::dvec3& d);
 // The backdrop (dark velvet) behind the piece, for pixel (x, y) of a w x h image.
 glm::dvec3 backdrop(int x, int y, int w, int h);
-// Linear to 8-bit sRGB with a gentle filmic shoulder so highlights do not clip harshly.
+// Linear to 8-bit sRGB through a camera-like curve: a toe (c^2 / (c + 0.03)) that deepens the
+// shadows and keeps the metal's colour in them, and a gentle shoulder (c / (1 + c / 4)) so
+// highlights do not clip harshly.
 std::array<std::uint8_t, 3> toSrgb8(const glm::dvec3& linear);
 
 template <class D>

@@ -36,13 +36,14 @@ double fresnelConductor(double cosTheta, double eta, double k) {
 
 const std::array<Metal, 4>& metals() {
   // n and k at 630, 532 and 465 nm, interpolated linearly from pbrt-v4's measured tables (Cu, CuZn
-  // for brass, Ag, Al). Roughness and the hammer's slope are this project's choices for a lightly
-  // polished, planished sheet.
+  // for brass, Ag, Al). Roughness (GGX alpha) and the hammer's slope are this project's choices for
+  // a polished, planished sheet: sharp enough that the face mirrors the studio's lights and each
+  // dimple glints (at twice these roughnesses the face was one flat colour).
   static const std::array<Metal, 4> kMetals = {{
-      makeMetal("copper", {0.2459, 1.0723, 1.1569}, {3.3784, 2.5907, 2.4572}, 0.12, 0.045, 1.00, 0.45),
-      makeMetal("brass", {0.4450, 0.5682, 0.9470}, {3.5220, 2.5880, 1.9200}, 0.10, 0.035, 0.70, 0.75),
-      makeMetal("silver", {0.1342, 0.1297, 0.1395}, {3.9628, 3.1942, 2.6135}, 0.07, 0.030, 0.90, 0.55),
-      makeMetal("aluminium", {1.3571, 0.8843, 0.6605}, {7.5878, 6.4700, 5.6536}, 0.16, 0.050, 0.85, 0.35),
+      makeMetal("copper", {0.2459, 1.0723, 1.1569}, {3.3784, 2.5907, 2.4572}, 0.048, 0.068, 1.00, 0.45),
+      makeMetal("brass", {0.4450, 0.5682, 0.9470}, {3.5220, 2.5880, 1.9200}, 0.040, 0.053, 0.70, 0.75),
+      makeMetal("silver", {0.1342, 0.1297, 0.1395}, {3.9628, 3.1942, 2.6135}, 0.028, 0.045, 0.90, 0.55),
+      makeMetal("aluminium", {1.3571, 0.8843, 0.6605}, {7.5878, 6.4700, 5.6536}, 0.064, 0.075, 0.85, 0.35),
   }};
   return kMetals;
 }

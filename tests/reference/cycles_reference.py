@@ -150,23 +150,35 @@ rot = Matrix((right, cam_up, -forward)).transposed()
 cam.matrix_world = Matrix.Translation(eye) @ rot.to_4x4()
 scene.camera = cam
 
-# ---- the tone curve: c / (1 + 0.25 c) per channel before the sRGB curve (the Standard view)
+# ---- the tone curve: c^2 / (c + 0.03), then c / (1 + 0.25 c), per channel before the sRGB curve
+# (the Standard view): emboss's toSrgb8()
 cn, cl = fresh_nodes(scene)
 layers = cn.new("CompositorNodeRLayers")
 split = cn.new("CompositorNodeSeparateColor")
 join = cn.new("CompositorNodeCombineColor")
 cl.new(layers.outputs["Image"], split.inputs[0])
+
+
+def math_node(op, a, b=None, value=None):
+    node = cn.new("CompositorNodeMath")
+    node.operation = op
+    cl.new(a, node.inputs[0])
+    if b is not None:
+        cl.new(b, node.inputs[1])
+    else:
+        node.inputs[1].default_value = value
+    return node.outputs[0]
+
+
 for i in range(3):
+    c = math_node("MAXIMUM", split.outputs[i], value=0.0)
+    toe = math_node("DIVIDE", math_node("MULTIPLY", c, c), math_node("ADD", c, value=0.03))
     denom = cn.new("CompositorNodeMath")
     denom.operation = "MULTIPLY_ADD"
     denom.inputs[1].default_value = 0.25
     denom.inputs[2].default_value = 1.0
-    cl.new(split.outputs[i], denom.inputs[0])
-    shoulder = cn.new("CompositorNodeMath")
-    shoulder.operation = "DIVIDE"
-    cl.new(split.outputs[i], shoulder.inputs[0])
-    cl.new(denom.outputs[0], shoulder.inputs[1])
-    cl.new(shoulder.outputs[0], join.inputs[i])
+    cl.new(toe, denom.inputs[0])
+    cl.new(math_node("DIVIDE", toe, denom.outputs[0]), join.inputs[i])
 composite = cn.new("CompositorNodeComposite")
 cl.new(join.outputs[0], composite.inputs["Image"])
 
