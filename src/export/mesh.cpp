@@ -300,41 +300,22 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
   // decimated one, in the rare case that the decimated mesh fails its check: on a busy piece that
   // copy was a fifth of the peak memory.)
   auto fineMesh = [&](bool reporting) {
-    std::vector<BlockOut> outs(static_cast<size_t>(blocks));
-    std::atomic<long> done{0};
-    // One tile per block column (x, y); the column's blocks run bottom to top.
-    pool.parallelFor2D(Rect{0, 0, g.bx, g.by}, 1, [&](const Rect& r) {
-      std::vector<std::uint32_t> scratch;
-      for (int bj = r.y; bj < r.y + r.h; ++bj)
-        for (int bi = r.x; bi < r.x + r.w; ++bi) {
-          const Box2 xy{g.ox + bi * kBlock * h, g.oy + bj * kBlock * h, g.ox + std::min((bi + 1) * kBlock, g.nx) * h,
-                        g.oy + std::min((bj + 1) * kBlock, g.ny) * h};
-          const auto found = opGrid.in(xy, scratch);
-          const std::vector<std::uint32_t> cand(found.begin(), found.end());
-          long n = 0;
-          for (int bk = 0; bk < g.bz; ++bk) {
-            BlockMesher mesher(model, g, cand, bi, bj, bk, n);
-            mesher.run(outs[(static_cast<size_t>(bk) * g.by + bj) * g.bx + bi]);
-          }
-          evals += n;
-          if (reporting) report(0.8 * static_cast<double>(done += g.bz) / static_cast<double>(blocks));
-        }
-    });
-    // Blocks share the vertices of their common faces: merge by edge key, in block order. Only an
-    // edge lying in a block's face can be in two blocks; the others (most) are new vertices.
+    // Blocks share the vertices of their common faces: merged by edge key as the blocks are made.
+    // Only an edge lying in a block's face can be in two blocks; the others (most) are new
+    // vertices. The columns are merged in their own order (row by row, each bottom to top),
+    // whichever thread finishes the column next in that order merging it and those made ahead of
+    // it, so the mesh is the same whatever the threads' timing, and only the few columns made ahead
+    // of that order wait in memory (keeping every block's output until a merge at the end was two
+    // thirds of a busy piece's peak memory).
     TriangleMesh mesh;
-    size_t nv = 0, nt = 0, ns = 0;
-    for (const auto& o : outs) {
-      nv += o.keys.size();
-      nt += o.tris.size();
-      for (std::uint64_t key : o.keys) ns += edgeOnBlockFace(key) ? 1 : 0;
-    }
+    const size_t columns = static_cast<size_t>(g.bx) * g.by;
+    std::vector<std::vector<BlockOut>> made(columns);
+    std::vector<char> isMade(columns, 0);
+    size_t nextColumn = 0;
+    std::mutex mergeMutex;
     std::unordered_map<std::uint64_t, std::uint32_t> global;
-    global.reserve(ns);
-    mesh.vertices.reserve(nv);
-    mesh.triangles.reserve(nt);
     std::vector<std::uint32_t> remap;
-    for (auto& o : outs) {
+    auto merge = [&](const BlockOut& o) {
       remap.resize(o.keys.size());
       for (size_t v = 0; v < o.keys.size(); ++v) {
         const auto next = static_cast<std::uint32_t>(mesh.vertices.size());
@@ -348,8 +329,37 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
         mesh.vertices.push_back(o.pos[v]);
       }
       for (const auto& t : o.tris) mesh.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
-      o = BlockOut{};
-    }
+    };
+    std::atomic<long> done{0};
+    // One tile per block column (x, y); the column's blocks run bottom to top.
+    pool.parallelFor2D(Rect{0, 0, g.bx, g.by}, 1, [&](const Rect& r) {
+      std::vector<std::uint32_t> scratch;
+      for (int bj = r.y; bj < r.y + r.h; ++bj)
+        for (int bi = r.x; bi < r.x + r.w; ++bi) {
+          const Box2 xy{g.ox + bi * kBlock * h, g.oy + bj * kBlock * h, g.ox + std::min((bi + 1) * kBlock, g.nx) * h,
+                        g.oy + std::min((bj + 1) * kBlock, g.ny) * h};
+          const auto found = opGrid.in(xy, scratch);
+          const std::vector<std::uint32_t> cand(found.begin(), found.end());
+          std::vector<BlockOut> column(static_cast<size_t>(g.bz));
+          long n = 0;
+          for (int bk = 0; bk < g.bz; ++bk) {
+            BlockMesher mesher(model, g, cand, bi, bj, bk, n);
+            mesher.run(column[static_cast<size_t>(bk)]);
+          }
+          evals += n;
+          {
+            std::lock_guard lock(mergeMutex);
+            const size_t c = static_cast<size_t>(bj) * g.bx + bi;
+            made[c] = std::move(column);
+            isMade[c] = 1;
+            for (; nextColumn < columns && isMade[nextColumn]; ++nextColumn) {
+              for (const BlockOut& o : made[nextColumn]) merge(o);
+              made[nextColumn] = {};
+            }
+          }
+          if (reporting) report(0.8 * static_cast<double>(done += g.bz) / static_cast<double>(blocks));
+        }
+    });
     weldFloats(mesh);
     return mesh;
   };

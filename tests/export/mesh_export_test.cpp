@@ -83,6 +83,31 @@ TEST(MeshExport, WithoutDecimationEveryCellIsMeshed) {
   EXPECT_NEAR(st.volume, M_PI * 64.0 * 0.8, M_PI * 64.0 * 0.8 * 0.01);
 }
 
+// The blocks are merged as the threads make them, in the columns' order: the same mesh, vertex for
+// vertex, on one thread or four (four on this piece's few columns make them out of order), fine
+// or decimated, run after run.
+TEST(MeshExport, TheSameMeshWhateverTheThreads) {
+  const Model model = modelOf(kPlate);
+  for (double maxError : {0.0, 0.01}) {
+    MeshOptions o;
+    o.cell = 0.2;
+    o.maxError = maxError;
+    o.threads = 1;
+    auto one = meshModel(model, o, nullptr);
+    ASSERT_TRUE(one.ok()) << one.error();
+    ASSERT_EQ(checkClosedManifold(*one), "");
+    for (int run = 0; run < 2; ++run) {
+      o.threads = 4;
+      auto four = meshModel(model, o, nullptr);
+      ASSERT_TRUE(four.ok()) << four.error();
+      ASSERT_EQ(four->vertices.size(), one->vertices.size()) << "max error " << maxError << ", run " << run;
+      ASSERT_EQ(four->triangles.size(), one->triangles.size()) << "max error " << maxError << ", run " << run;
+      EXPECT_TRUE(four->vertices == one->vertices) << "max error " << maxError << ", run " << run;
+      EXPECT_TRUE(four->triangles == one->triangles) << "max error " << maxError << ", run " << run;
+    }
+  }
+}
+
 // When the decimated mesh fails its check, the fine mesh is made again and written: the very mesh
 // made without decimation.
 TEST(MeshExport, AFailedDecimationWritesTheFineMesh) {
