@@ -11,6 +11,7 @@
 
 #include "bench/baseline_2d.h"
 #include "bench/piece_generator.h"
+#include "cli/bench_kiosk.h"
 #include "frep/path_rows.h"
 #include "frep/vm_generate.h"
 #include "frep/vm_model.h"
@@ -289,7 +290,8 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
 
 }  // namespace
 
-int benchMain(const std::string& out, int threads, bool quick, const std::string& only) {
+int benchMain(const std::string& out, int threads, bool quick, const std::string& only, const std::string& kioskRecording,
+              int kioskLoops) {
   auto wanted = [&](const std::string& name) { return only.empty() || name.find(only) != std::string::npos; };
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   ThreadPool pool(threads);
@@ -317,7 +319,16 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
     }
     rows.push_back(measure("vm " + std::to_string(clauses) + " clauses", *piece, s, pool, quick ? 8 : 16, baseline));
   }
-  const std::string text = table(rows, s, cores, baseline);
+  std::string text = table(rows, s, cores, baseline);
+  if (!kioskRecording.empty()) {
+    std::string error;
+    const std::string kiosk = kioskBench({kioskRecording, kioskLoops, threads, quick}, error);
+    if (kiosk.empty()) {
+      std::fprintf(stderr, "emboss bench: kiosk: %s\n", error.c_str());
+      return 1;
+    }
+    text += kiosk;
+  }
   std::fputs(text.c_str(), stdout);
   if (!out.empty()) {
     std::ofstream f(out);

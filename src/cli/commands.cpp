@@ -37,7 +37,8 @@ ShadingParams shadingFor(const Scene& scene, const Model& model) {
 
 }  // namespace
 
-int benchMain(const std::string& out, int threads, bool quick, const std::string& only);
+int benchMain(const std::string& out, int threads, bool quick, const std::string& only, const std::string& kioskRecording,
+              int kioskLoops);
 
 Commands::Commands(CLI::App& app) : app_(app) {
   evalCmd_ = app.add_subcommand("eval", "Print f (>= 0 inside) of a scene's model at points");
@@ -77,7 +78,13 @@ Commands::Commands(CLI::App& app) : app_(app) {
   benchCmd_->add_option("-o,--output", out_, "Also write the table (Markdown) to this file");
   benchCmd_->add_option("--threads", threads_, "Threads in the pool (0: one per core)")->check(CLI::Range(0, 256));
   benchCmd_->add_flag("--quick", quick_, "Small sizes, for a smoke test");
-  benchCmd_->add_option("--only", only_, "Measure only the pieces whose name holds this text (\"vm\", \"plate\"); the baseline always");
+  benchCmd_->add_option("--only", only_, "Measure only the pieces whose name holds this text (\"vm\", \"plate\"; \"kiosk\": no piece); the baseline always");
+  benchCmd_->add_option("--kiosk", kioskRecording_,
+                        "Also run emboss-kiosk headless with this tablet recording (evemu) at its own pace: stroke-to-screen "
+                        "latency, CPU when idle, attract frames a second")
+      ->check(CLI::ExistingFile);
+  benchCmd_->add_option("--kiosk-loops", kioskLoops_, "Play the --kiosk recording this many times in a row (default 5)")
+      ->check(CLI::Range(1, 100));
 }
 
 int Commands::run() {
@@ -267,6 +274,6 @@ int Commands::exportScene() {
   return 0;
 }
 
-int Commands::bench() { return benchMain(out_, threads_, quick_, only_); }
+int Commands::bench() { return benchMain(out_, threads_, quick_, only_, kioskRecording_, kioskLoops_); }
 
 }  // namespace emboss::cli

@@ -50,6 +50,8 @@ class Commands {
   bool incremental_ = false;
   bool quick_ = false;
   std::string only_;
+  std::string kioskRecording_;
+  int kioskLoops_ = 5;
   std::function<std::unique_ptr<TextPainter>()> textFactory_;
 };
 

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# emboss bench --kiosk: the kiosk program run headless on a real tablet recording played in a loop
+# at its own pace; the table of what a visitor feels read back. Timing is not judged here (the
+# bench prints whether the targets are met); what is checked is that every row was measured.
+set -u
+bin="$1"; src="$2"
+emboss="$bin/emboss"
+rec="$src/../shared/fixtures/evemu/Wacom Intuos4 6x9.stylus-drag.events"
+[ -x "$bin/emboss-kiosk" ] || { echo "skip: no emboss-kiosk"; exit 77; }
+[ -f "$rec" ] || { echo "skip: no tablet recordings (the fixtures are not beside the checkout: $src/../shared/fixtures)"; exit 77; }
+tmp="$(mktemp -d)"; trap 'rm -rf "$tmp"' EXIT
+fail=0
+tmpdirs() { ls -d "${TMPDIR:-/tmp}"/emboss-bench-kiosk.* 2>/dev/null | sort; }
+tmpdirs >"$tmp/before"
+"$emboss" bench --quick --only kiosk --threads 2 --kiosk "$rec" --kiosk-loops 2 >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] || { echo "FAIL bench --kiosk: exit $rc"; cat "$tmp/out" "$tmp/err"; exit 1; }
+row() { grep "^| $1" "$tmp/out"; }
+# One loop of the drag recording changes the picture 23 times at its pace: two loops give more.
+updates=$(row "stroke-to-screen latency" | sed -nE 's/.*\| ([0-9]+) updates: mean [0-9.]+ ms, median [0-9.]+, 95 % [0-9.]+, 99 % [0-9.]+, max [0-9.]+ ms \| 99 % <= 16 ms, >= 100 updates \| (yes|\*\*no\*\*).*/\1/p')
+if [ -z "$updates" ] || [ "$updates" -le 23 ]; then echo "FAIL latency row (updates '$updates'): $(row stroke)"; fail=1; else echo "ok   latency over $updates updates"; fi
+row "CPU while the visitor stands idle" | grep -Eq '\| [0-9.]+ % of one core \| near zero' &&
+  echo "ok   idle CPU: $(row CPU | cut -d'|' -f3)" || { echo "FAIL idle row: $(row CPU)"; fail=1; }
+row "attract mode" | grep -Eq '\| [0-9.]+ fps from its first frame on \([0-9]+ frames in [0-9.]+ s\) \| >= 30 fps' &&
+  echo "ok   attract: $(row attract | cut -d'|' -f3)" || { echo "FAIL attract row: $(row attract)"; fail=1; }
+grep -q "played 2 times, a second apart, at its own pace" "$tmp/out" || { echo "FAIL the table does not say how the recording was played"; fail=1; }
+# The bench's temporary folder is gone.
+tmpdirs | comm -13 "$tmp/before" - | grep -q . && { echo "FAIL left a temporary folder behind"; fail=1; }
+
+# A recording with no events: a clear message, exit 1.
+printf '# EVEMU 1.3\nN: nothing\n' >"$tmp/empty.events"
+"$emboss" bench --quick --only kiosk --kiosk "$tmp/empty.events" >"$tmp/out" 2>"$tmp/err"; rc=$?
+if [ "$rc" -eq 1 ] && grep -q "empty.events holds no events" "$tmp/err"; then echo "ok   empty recording"; else
+  echo "FAIL empty recording: exit $rc, $(cat "$tmp/err")"; fail=1; fi
+exit $fail
