@@ -1,7 +1,10 @@
 // Ray picking on the F-rep model and the mapping of the tablet onto the visible sheet.
 #include "app/surface_pick.h"
 
+#include "frep/interval.h"
+
 #include <algorithm>
+#include <vector>
 #include <cmath>
 #include <limits>
 
@@ -28,7 +31,7 @@ bool clipToBox(const Ray& r, const Box3& b, double& t0, double& t1) {
 
 }  // namespace
 
-std::optional<glm::dvec3> pickSurface(const Model& model, const Camera& camera, double sx, double sy) {
+std::optional<glm::dvec3> pickSurface(const Model& model, const Camera& camera, double sx, double sy, bool skipOutside) {
   const Ray ray = camera.rayAt(sx, sy);
   Box3 b = model.bounds();
   b.x0 -= 1, b.y0 -= 1, b.z0 -= 1, b.x1 += 1, b.y1 += 1, b.z1 += 1;
@@ -44,28 +47,40 @@ std::optional<glm::dvec3> pickSurface(const Model& model, const Camera& camera, 
     const glm::dvec3 p = ray.origin + ray.dir * t;
     return model.evaluate(P3<double>{p.x, p.y, p.z}, std::span<const std::uint32_t>(candidates));
   };
-  // A step well under the sheet's thickness, so a ray cannot step over the sheet.
+  // Samples a step well under the sheet's thickness apart, so a ray cannot step over the sheet;
+  // the first one inside is bracketed with the one before it and bisected.
   const double h = std::clamp(0.35 * model.workpiece().halfThickness(), 0.02, 0.25);
-  double prevT = t0, prevF = f(t0);
-  if (prevF >= 0) {
-    const glm::dvec3 p = ray.origin + ray.dir * t0;
-    return p;
-  }
+  if (f(t0) >= 0) return ray.origin + ray.dir * t0;
+  std::vector<double> ts{t0};
   for (double t = t0 + h;; t += h) {
-    const double tt = std::min(t, t1);
-    const double v = f(tt);
-    if (v >= 0) {
-      double lo = prevT, hi = tt;
-      for (int i = 0; i < 40; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        if (f(mid) >= 0) hi = mid; else lo = mid;
-      }
-      return ray.origin + ray.dir * hi;
-    }
-    prevT = tt, prevF = v;
-    if (tt >= t1) break;
+    ts.push_back(std::min(t, t1));
+    if (ts.back() >= t1) break;
   }
-  return std::nullopt;
+  // Most of the ray is far above or below the sheet: a stretch of samples whose segment of the ray
+  // interval arithmetic proves to be outside is skipped (the same first sample inside is found,
+  // with a few interval evaluations instead of a point evaluation a sample).
+  auto firstInside = [&](auto&& self, size_t a, size_t b) -> size_t {
+    if (b - a < 4 || !skipOutside) {
+      for (size_t k = a; k <= b; ++k)
+        if (f(ts[k]) >= 0) return k;
+      return 0;
+    }
+    const glm::dvec3 p = ray.origin + ray.dir * ts[a], q = ray.origin + ray.dir * ts[b];
+    const P3<Interval> box{Interval(std::min(p.x, q.x), std::max(p.x, q.x)), Interval(std::min(p.y, q.y), std::max(p.y, q.y)),
+                           Interval(std::min(p.z, q.z), std::max(p.z, q.z))};
+    if (model.evaluate(box, std::span<const std::uint32_t>(candidates)).hi < 0) return 0;
+    const size_t m = a + (b - a) / 2;
+    const size_t k = self(self, a, m);
+    return k ? k : self(self, m + 1, b);
+  };
+  const size_t k = firstInside(firstInside, 1, ts.size() - 1);
+  if (!k) return std::nullopt;
+  double lo = ts[k - 1], hi = ts[k];
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (f(mid) >= 0) hi = mid; else lo = mid;
+  }
+  return ray.origin + ray.dir * hi;
 }
 
 double projectedRadius(const Camera& camera, const glm::dvec3& p, double radiusMm) {
