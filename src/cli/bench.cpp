@@ -1,6 +1,7 @@
 // `emboss bench`: the renderer's benchmark on generated pieces, printed as a table.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
@@ -80,6 +81,16 @@ struct Baseline {
   // One more frame of it (ms), or 0 without a program.
   double frame(ThreadPool& pool) const { return program ? renderBaseline2d(*program, size, 1.1, pool).ms : 0.0; }
 };
+
+// The piece's default camera moved on its sphere around the target to `degrees` off the sheet's
+// normal (toward the visitor's side), the same distance and field of view.
+CameraSpec tiltedCamera(CameraSpec c, double degrees) {
+  const double dx = c.eye.x - c.target.x, dy = c.eye.y - c.target.y, dz = c.eye.z - c.target.z;
+  const double dist = std::sqrt(dx * dx + dy * dy + dz * dz), a = degrees * M_PI / 180.0;
+  c.eye = {c.target.x, c.target.y - dist * std::sin(a), c.target.z + dist * std::cos(a)};
+  c.up = {0, 1, 0};
+  return c;
+}
 
 Baseline measureBaseline(ThreadPool& pool, bool quick) {
   Baseline b;
@@ -305,6 +316,28 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
     const GeneratedPiece piece = generatePiece(n, 2001);
     std::fprintf(stderr, "emboss bench: A4 plate, %d operations...\n", n);
     rows.push_back(measure("A4 plate", piece, s, pool, quick ? 16 : (n >= 3500 ? 24 : 48), baseline));
+  }
+  // Pieces of other character, so the figures hold beyond the A4 generator's own: a smaller plate
+  // as densely worked, seen 30 degrees off straight above (rays cross more relief before they
+  // hit); a disc of fine tools (punches and tracers at 0.6 of their size: more, smaller features)
+  // seen straight down.
+  if (wanted("plate 200x150")) {
+    PieceOptions o;
+    o.width = 200, o.height = 150;
+    GeneratedPiece piece = generatePiece(quick ? 200 : 3500, 2003, o);
+    piece.camera = tiltedCamera(piece.camera, 30.0);
+    std::fprintf(stderr, "emboss bench: plate 200x150, %zu operations, 30 degrees off vertical...\n", piece.operations.size());
+    rows.push_back(measure("plate 200x150 at 30°", piece, s, pool, quick ? 16 : 24, baseline));
+  }
+  if (wanted("disc")) {
+    PieceOptions o;
+    o.shape = PieceShape::Disc;
+    o.width = o.height = 180;
+    o.toolScale = 0.6;
+    GeneratedPiece piece = generatePiece(quick ? 200 : 3500, 2004, o);
+    piece.camera = tiltedCamera(piece.camera, 0.0);
+    std::fprintf(stderr, "emboss bench: disc 180 mm of fine tools, %zu operations, from above...\n", piece.operations.size());
+    rows.push_back(measure("disc 180 fine tools, above", piece, s, pool, quick ? 16 : 24, baseline));
   }
   // A large imported model: a medallion outline of thousands of vm clauses as the workpiece,
   // with a relief on it.
