@@ -101,7 +101,15 @@ double writeLoopedRecording(const fs::path& from, int loops, const fs::path& to,
 struct Child {
   pid_t pid = -1;
   int out = -1;  // its stdout
+  bool exited = false;
+  int status = 0;
 };
+
+// Whether the child has exited yet (reaped then, its status kept).
+bool exitedYet(Child& c) {
+  if (!c.exited && waitpid(c.pid, &c.status, WNOHANG) == c.pid) c.exited = true;
+  return c.exited;
+}
 
 // Starts `argv` with its stdout on a pipe, its stderr into `log`, its sessions under `state`.
 Child start(const std::vector<std::string>& argv, const fs::path& log, const fs::path& state) {
@@ -132,7 +140,7 @@ Child start(const std::vector<std::string>& argv, const fs::path& log, const fs:
 }
 
 // Reads the child's stdout to its end and waits for it; false unless it exited 0.
-bool finish(Child c, std::string& out) {
+bool finish(Child& c, std::string& out) {
   char buf[4096];
   for (ssize_t n; (n = read(c.out, buf, sizeof buf)) != 0;) {
     if (n < 0) {
@@ -142,9 +150,9 @@ bool finish(Child c, std::string& out) {
     out.append(buf, static_cast<size_t>(n));
   }
   close(c.out);
-  int status = 0;
-  while (waitpid(c.pid, &status, 0) < 0 && errno == EINTR) {}
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  while (!c.exited && waitpid(c.pid, &c.status, 0) < 0 && errno == EINTR) {}
+  c.exited = true;
+  return WIFEXITED(c.status) && WEXITSTATUS(c.status) == 0;
 }
 
 // CPU seconds (user + system) the process has used, from /proc/PID/stat; negative if unknown.
@@ -222,7 +230,12 @@ std::string kioskBench(const KioskBenchOptions& o, std::string& error) {
     error = std::string("cannot start ") + kiosk + ": " + std::strerror(errno);
     return {};
   }
-  auto sleepUntil = [&](double s) { std::this_thread::sleep_until(t0 + std::chrono::duration<double>(s)); };
+  // Waits until `s` seconds after the start, or until the kiosk has exited (it failed to start).
+  auto sleepUntil = [&](double s) {
+    const Clock::time_point until = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+    for (Clock::time_point now = Clock::now(); now < until && !exitedYet(c); now = Clock::now())
+      std::this_thread::sleep_for(std::min<Clock::duration>(until - now, std::chrono::milliseconds(100)));
+  };
   sleepUntil(played + settle);
   const double cpu0 = cpuSeconds(c.pid);
   const auto w0 = Clock::now();
