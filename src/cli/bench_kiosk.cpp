@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <spawn.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -20,6 +21,8 @@
 #include <vector>
 
 #include "input/evemu.h"
+
+extern char** environ;
 
 namespace emboss::cli {
 
@@ -112,30 +115,35 @@ bool exitedYet(Child& c) {
 }
 
 // Starts `argv` with its stdout on a pipe, its stderr into `log`, its sessions under `state`.
+// posix_spawnp: nothing runs in a forked copy of this threaded process before the exec.
 Child start(const std::vector<std::string>& argv, const fs::path& log, const fs::path& state) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  std::vector<std::string> envStrings;
+  for (char** e = environ; *e; ++e)
+    if (std::strncmp(*e, "STATE_DIRECTORY=", 16) != 0) envStrings.emplace_back(*e);
+  envStrings.push_back("STATE_DIRECTORY=" + state.string());
+  std::vector<char*> env;
+  for (auto& e : envStrings) env.push_back(e.data());
+  env.push_back(nullptr);
   int fds[2];
   if (pipe(fds) != 0) return {};
-  const pid_t pid = fork();
-  if (pid < 0) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+  posix_spawn_file_actions_addclose(&actions, fds[0]);
+  posix_spawn_file_actions_addclose(&actions, fds[1]);
+  posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), env.data());
+  posix_spawn_file_actions_destroy(&actions);
+  close(fds[1]);
+  if (rc != 0) {
     close(fds[0]);
-    close(fds[1]);
+    errno = rc;
     return {};
   }
-  if (pid == 0) {
-    dup2(fds[1], 1);
-    close(fds[0]);
-    close(fds[1]);
-    const int err = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (err >= 0) dup2(err, 2);
-    setenv("STATE_DIRECTORY", state.c_str(), 1);
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    execvp(args[0], args.data());
-    std::fprintf(stderr, "cannot run %s: %s\n", args[0], std::strerror(errno));
-    _exit(127);
-  }
-  close(fds[1]);
   return {pid, fds[0]};
 }
 
