@@ -1,7 +1,6 @@
 // `emboss bench`: the renderer's benchmark on generated pieces, printed as a table.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
@@ -10,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/view_orbit.h"
 #include "bench/baseline_2d.h"
 #include "bench/piece_generator.h"
 #include "cli/bench_kiosk.h"
@@ -82,14 +82,12 @@ struct Baseline {
   double frame(ThreadPool& pool) const { return program ? renderBaseline2d(*program, size, 1.1, pool).ms : 0.0; }
 };
 
-// The piece's default camera moved on its sphere around the target to `degrees` off the sheet's
-// normal (toward the visitor's side), the same distance and field of view.
-CameraSpec tiltedCamera(CameraSpec c, double degrees) {
-  const double dx = c.eye.x - c.target.x, dy = c.eye.y - c.target.y, dz = c.eye.z - c.target.z;
-  const double dist = std::sqrt(dx * dx + dy * dy + dz * dz), a = degrees * M_PI / 180.0;
-  c.eye = {c.target.x, c.target.y - dist * std::sin(a), c.target.z + dist * std::cos(a)};
-  c.up = {0, 1, 0};
-  return c;
+// The piece's default camera moved round its target (the same distance and field of view) to
+// `degrees` off the sheet's normal, toward the visitor's side.
+CameraSpec tiltedCamera(const CameraSpec& c, double degrees) {
+  Orbit o = orbitOf(c);
+  o.azimuthDeg = 0.0, o.elevationDeg = 90.0 - degrees;
+  return cameraAt(o, c);
 }
 
 Baseline measureBaseline(ThreadPool& pool, bool quick) {

@@ -3,7 +3,6 @@
 #include "cli/bench_kiosk.h"
 
 #include <fcntl.h>
-#include <signal.h>
 #include <spawn.h>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -48,29 +47,34 @@ std::string kioskProgram() {
 // span of one loop in seconds, or a negative value with `error` set.
 double writeLoopedRecording(const fs::path& from, int loops, const fs::path& to, std::string& error) {
   std::ifstream in(from);
-  if (!in) {
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in && !in.eof()) {
     error = "cannot read the recording " + from.string();
     return -1;
   }
-  std::vector<std::string> header;
-  std::vector<std::pair<double, std::string>> events;  // time, the rest of the line after it
-  bool described = false;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("E:", 0) == 0) {
-      std::istringstream s(line.substr(2));
-      double t = 0;
-      std::string rest;
-      if (!(s >> t)) continue;
-      std::getline(s, rest);
-      events.emplace_back(t, rest);
-    } else if (events.empty()) {
-      described = described || line.rfind("N:", 0) == 0;
-      header.push_back(line);
-    }
+  // Read as the kiosk reads it (malformed lines fail with their number); its description is
+  // inside when it has axis ranges of its own, as loadEvemu() decides.
+  const auto recording = parseEvemu(text);
+  if (!recording) {
+    error = from.string() + ": " + recording.error();
+    return -1;
   }
-  if (events.size() < 2) {
+  if (recording->events.size() < 2) {
     error = from.string() + " holds no events";
     return -1;
+  }
+  const bool described = recording->device.hasAxes();
+  std::vector<std::string> header;
+  std::vector<std::pair<double, std::string>> events;  // time, the rest of the line after it
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("E:", 0) == 0) {
+      char* rest = nullptr;
+      const double t = std::strtod(line.c_str() + 2, &rest);
+      events.emplace_back(t, std::string(rest));
+    } else if (events.empty()) {
+      header.push_back(line);
+    }
   }
   const double t0 = events.front().first, span = events.back().first - t0;
   std::ofstream out(to);

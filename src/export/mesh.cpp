@@ -309,8 +309,7 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     // thirds of a busy piece's peak memory).
     TriangleMesh mesh;
     const size_t columns = static_cast<size_t>(g.bx) * g.by;
-    std::vector<std::vector<BlockOut>> made(columns);
-    std::vector<char> isMade(columns, 0);
+    std::vector<std::vector<BlockOut>> made(columns);  // a column's blocks (bz of them) once made
     size_t nextColumn = 0;
     std::mutex mergeMutex;
     std::unordered_map<std::uint64_t, std::uint32_t> global;
@@ -351,8 +350,7 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
             std::lock_guard lock(mergeMutex);
             const size_t c = static_cast<size_t>(bj) * g.bx + bi;
             made[c] = std::move(column);
-            isMade[c] = 1;
-            for (; nextColumn < columns && isMade[nextColumn]; ++nextColumn) {
+            for (; nextColumn < columns && !made[nextColumn].empty(); ++nextColumn) {
               for (const BlockOut& o : made[nextColumn]) merge(o);
               made[nextColumn] = {};
             }

@@ -27,6 +27,7 @@ struct Vec2 {
 };
 struct Vec3 {
   double x = 0, y = 0, z = 0;
+  bool operator==(const Vec3&) const = default;
 };
 
 // The shape of a punch for the set-theoretic operations (4): f_tool >= 0 inside the tool.

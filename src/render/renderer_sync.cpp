@@ -300,10 +300,7 @@ void Renderer::syncSetOps(const Model& model) {
 namespace {
 
 bool sameCamera(const Camera& a, const Camera& b) {
-  const CameraSpec &p = a.spec(), &q = b.spec();
-  auto same = [](const Vec3& u, const Vec3& v) { return u.x == v.x && u.y == v.y && u.z == v.z; };
-  return a.width() == b.width() && a.height() == b.height() && p.type == q.type && same(p.eye, q.eye) &&
-         same(p.target, q.target) && same(p.up, q.up) && p.fovDeg == q.fovDeg && p.height == q.height;
+  return a.width() == b.width() && a.height() == b.height() && a.spec() == b.spec();
 }
 
 }  // namespace

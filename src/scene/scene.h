@@ -19,6 +19,7 @@ struct CameraSpec {
   Vec3 up{0, 1, 0};
   double fovDeg = 35.0;
   double height = 100.0;  // ortho: the height of the view in mm
+  bool operator==(const CameraSpec&) const = default;
 };
 
 // A scene as read from a file. `operations` are all the file's operations, in order.

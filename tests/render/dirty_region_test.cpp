@@ -170,7 +170,9 @@ void runCase(const Case& c) {
   // The dirty spans must be a real saving, not the whole frame.
   EXPECT_LT(dirtyPixels, framePixels * 3 / 4);
   // The field tracer shaded some pixels at their kept hits (what a change's shading alone reaches).
-  if (c.deformation == Deformation::Sheet && !c.exactTracer) EXPECT_GT(reshaded, 0u);
+  if (c.deformation == Deformation::Sheet && !c.exactTracer) {
+    EXPECT_GT(reshaded, 0u);
+  }
 }
 
 TEST(DirtyRegion, SheetPlateEqualsFullRender) { runCase({PieceShape::Plate, Deformation::Sheet, false, 128, 80, 30, 1}); }
@@ -202,7 +204,9 @@ TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
   Renderer live(pool);
   Model model(piece.workpiece, piece.deformation);
   for (const Operation& op : piece.operations)  // (set operations come last, below)
-    if (!op.isSet()) ASSERT_TRUE(model.add(op).ok());
+    if (!op.isSet()) {
+      ASSERT_TRUE(model.add(op).ok());
+    }
   const Camera camera(piece.camera, 128, 80), small(piece.camera, 64, 40);
   live.setCamera(camera);
   live.setShading(shading(model));
