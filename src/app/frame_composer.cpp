@@ -60,10 +60,18 @@ std::vector<PixelSpans> mergeSpans(std::vector<PixelSpans> spans) {
 FrameComposer::FrameComposer(ThreadPool& pool, int width, int height)
     : pool_(pool), w_(width), h_(height), frame_(width, height), rowMs_(static_cast<size_t>(std::max(height, 0)), 0.0f) {
   for (Slot& s : slots_) s.renderer = std::make_unique<Renderer>(pool_);
+  setFieldBandMs(kFieldBandMs);
   slot_ = &slots_[0];
   renderer_ = slot_->renderer.get();
   for (size_t i = 3; i < frame_.rgba.size(); i += 4) frame_.rgba[i] = 255;
   nextBand_ = h_;
+}
+
+void FrameComposer::setFieldBandMs(double ms) {
+  RenderOptions options;
+  options.fieldBandMs = ms;
+  fieldBandMs_ = ms;
+  for (Slot& s : slots_) s.renderer->setOptions(options);
 }
 
 FrameComposer::BlankKey FrameComposer::blankKey() const {
@@ -128,6 +136,9 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
     revision_ = model.revision();
     renderer_->sync(model);
     counters_.fieldRebuilds += renderer_->lastSync().rebuilt;
+    // A big region still being added when the model changed: its other rows were added now.
+    if (!full)
+      if (PixelSpans r = renderer_->pendingSpans(); !r.empty()) urgent_.push_back(std::move(r));
   }
   if (full) {
     urgent_.clear();
@@ -280,6 +291,13 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     changed.push_back({0, 0, w_, h_});
   }
   if (needPreview_) preview(changed);
+  if (renderer_->fieldPending() && urgent_.empty()) {
+    // A big raised region rises a band of rows a turn (Renderer::continueField), each band traced
+    // as a dirty rectangle (coarse first when it is big).
+    PixelSpans r = renderer_->continueField(fieldBandMs_);
+    ++counters_.fieldBands;
+    if (!r.empty()) urgent_.push_back(std::move(r));
+  }
   const std::vector<PixelSpans> dirty = mergeSpans(std::move(urgent_));
   urgent_.clear();
   // What the visitor just did is on the screen within the frame: when tracing all of it would
@@ -302,6 +320,8 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
       renderSpans(r, changed, true);
     }
   }
+  // (Merged: a big region's bands overlap by the shading's reach; their exact pixels once.)
+  if (anyCoarse) coarse_ = mergeSpans(std::move(coarse_));
   if (anyCoarse || (dirtyAlone && !dirty.empty())) return;
   // The coarse rectangles' exact pixels, a band of rows at a time, oldest first.
   while (!coarse_.empty()) {

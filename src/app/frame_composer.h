@@ -2,6 +2,7 @@
 // preview refined band by band, so the kiosk answers the pen while a big redraw is under way.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -55,7 +56,18 @@ class FrameComposer {
   // Traces everything pending (for snapshots, saving and exit); with a limit, stops after about
   // limitMs (between two bands) and returns false when something is still pending.
   bool flush(std::vector<Rect>& changed, double limitMs = std::numeric_limits<double>::infinity());
-  bool pending() const { return !urgent_.empty() || !coarse_.empty() || nextBand_ < h_ || needPreview_ || blankCopied_; }
+  bool pending() const {
+    return !urgent_.empty() || !coarse_.empty() || nextBand_ < h_ || needPreview_ || blankCopied_ || renderer_->fieldPending();
+  }
+  // A raised region whose field takes longer than this to add rises a band of rows a turn, each
+  // band's field work about this long (RenderOptions::fieldBandMs).
+  static constexpr double kFieldBandMs = 3.0;
+  // Another time (0: every region's field at once; for tests).
+  void setFieldBandMs(double ms);
+  // The preview's scale (pixels a sample each way), which follows the preview's time: set for
+  // tests, whose coarse pictures would otherwise depend on how busy the machine was.
+  int previewScale() const { return previewScale_; }
+  void setPreviewScale(int scale) { previewScale_ = std::clamp(scale, 2, 8); }
   bool refining() const { return nextBand_ < h_; }
 
   const Image& frame() const { return frame_; }
@@ -65,6 +77,7 @@ class FrameComposer {
   struct Counters {
     std::uint64_t dirtyRects = 0, dirtyPixels = 0, previews = 0, bands = 0, blankReuses = 0;
     std::uint64_t coarseRects = 0;  // dirty rectangles shown coarse first
+    std::uint64_t fieldBands = 0;   // bands of a big raised region added after its first
     std::uint64_t fieldRebuilds = 0;  // a model's height field built from scratch
     double lastPreviewMs = 0;
     RenderStats render;
@@ -122,6 +135,7 @@ class FrameComposer {
   int bandRows_ = 16;
   int previewScale_ = 3;
   double pxPerMs_ = 0;    // measured tracing speed of dirty rectangles
+  double fieldBandMs_ = kFieldBandMs;
   std::vector<float> rowMs_;  // per row of the frame: its cost the last time a band traced it (0: not yet)
   double maxRowMs_ = 0;       // the dearest row measured
   double dirtyMs_ = 6.0;

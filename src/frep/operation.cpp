@@ -531,6 +531,50 @@ T PreparedOp::combine(const T& f, const P3<T>& p) const {
   return f + w * (result - f);
 }
 
+namespace {
+
+// The corners of the convex hull of `pts`, counter-clockwise (Andrew's monotone chain), fewer where
+// a corner lies within `slack` of the chord that passes it by: every point of `pts` is then within
+// `slack` of the hull of the corners returned.
+std::vector<Vec2> hullCorners(std::vector<Vec2> pts, double slack) {
+  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  pts.erase(std::unique(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; }), pts.end());
+  if (pts.size() < 3) return pts;
+  auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
+  std::vector<Vec2> h(2 * pts.size());
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], pts[i]) <= 0) --k;
+    h[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(h[k - 2], h[k - 1], pts[i]) <= 0) --k;
+    h[k++] = pts[i];
+  }
+  h.resize(k - 1);
+  // Corners within `slack` of a chord between two kept ones are dropped (a long smooth contour has
+  // hundreds of corners a few micrometres off the chords).
+  const size_t n = h.size();
+  auto within = [&](size_t a, size_t b) {  // every corner strictly between a and b (b may be n: corner 0)
+    const Vec2& p = h[a];
+    const Vec2& q = h[b % n];
+    const double dx = q.x - p.x, dy = q.y - p.y, len = std::sqrt(dx * dx + dy * dy);
+    for (size_t c = a + 1; c < b; ++c)
+      if (std::abs(dx * (h[c].y - p.y) - dy * (h[c].x - p.x)) > slack * len) return false;
+    return true;
+  };
+  std::vector<Vec2> kept{h[0]};
+  for (size_t a = 0; a < n;) {
+    size_t b = a + 1;
+    while (b < n && within(a, b + 1)) ++b;
+    if (b < n) kept.push_back(h[b]);
+    a = b;
+  }
+  return kept;
+}
+
+}  // namespace
+
 PreparedOp::SupportPieces PreparedOp::supportPieces() const {
   SupportPieces s;
   s.radius = kSupportSpan * length_;
@@ -552,9 +596,14 @@ PreparedOp::SupportPieces PreparedOp::supportPieces() const {
     case OpKind::Press:
       segments(pts);  // the punches lie on the path
       break;
-    case OpKind::Region:
-      s.pieces.push_back(pts);  // the hull of the contour holds what it encloses
+    case OpKind::Region: {
+      // The hull of the contour holds what it encloses: its corners, fewer by a hundredth of a
+      // millimetre more radius (what dirty updates project: a region of 300 points cost 2 ms).
+      constexpr double kSlack = 0.01;
+      s.pieces.push_back(hullCorners(pts, kSlack));
+      s.radius += kSlack;
       break;
+    }
     case OpKind::Patina:
       s.radius = op_.a;
       segments(pts);

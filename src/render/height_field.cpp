@@ -161,6 +161,12 @@ void HeightField::add(const PreparedOp& op, ThreadPool* pool) {
   if (!r.empty()) forBands(r, pool, 4, [&](const SampleRect& b) { addTo(op, b); });
 }
 
+void HeightField::add(const PreparedOp& op, const SampleRect& rows, ThreadPool* pool) {
+  if (!op.op().isOffset()) return;
+  const SampleRect r = intersect(samplesIn(op.support()), rows);
+  if (!r.empty()) forBands(r, pool, 4, [&](const SampleRect& b) { addTo(op, b); });
+}
+
 void HeightField::recompute(const SampleRect& rIn, std::span<const PreparedOp* const> ops) {
   const SampleRect r = clamp(rIn);
   if (r.empty()) return;

@@ -77,6 +77,9 @@ class HeightField {
   // Adds an offset operation's contribution to the samples inside its support (an append).
   // With a pool, rows of samples are shared out (every sample's arithmetic is the same).
   void add(const PreparedOp& op, ThreadPool* pool = nullptr);
+  // The same over the samples of `rows` only (those of its support within it): an append made a
+  // band of rows at a time; every sample gets the bits add() gives it.
+  void add(const PreparedOp& op, const SampleRect& rows, ThreadPool* pool = nullptr);
   // Sets the samples of `r` to the sum of `ops` (the offsets that may reach r, ascending index).
   void recompute(const SampleRect& r, std::span<const PreparedOp* const> ops);
   // The samples of r as they are, and putting them back (then finish() over r): an append

@@ -56,6 +56,11 @@ struct RenderOptions {
   // the cavity term, a patina stroke) is shaded again at the hit kept from its last trace instead
   // of traced (false: every ray traced; the same picture, slower; for comparison).
   bool reuseHits = true;
+  // Field tracer: an appended offset over more than kFieldBandMinSamples field samples (a big
+  // raised region) is added for about this long in sync() (whole rows, at least eight),
+  // and the rest by continueField(), so that no frame waits for all of it. The field ends with
+  // the same bits however it is cut. 0: at once.
+  double fieldBandMs = 0.0;
 };
 
 // Two tracers share one contract (docs/rendering.md): a pixel's colour depends on nothing but the
@@ -106,6 +111,19 @@ class Renderer {
   // punch's is about three quarters of its rectangle, a diagonal line's much less.
   PixelSpans dirtySpans(const Model& model, size_t index) const;
 
+  // Whether an append is still being added to the field a band of rows at a time
+  // (RenderOptions::fieldBandMs): the picture then shows its rows added so far.
+  bool fieldPending() const { return pending_.active; }
+  // Adds the next rows of that append for about `budgetMs` (whole rows, at least eight)
+  // and returns the pixels that can change with them (to trace, as dirtySpans()); the last rows
+  // end it. Nothing pending: nothing done, empty spans. Call between renders, as sync().
+  PixelSpans continueField(double budgetMs);
+  // An append over fewer field samples than this is added at once whatever fieldBandMs says.
+  static constexpr long kFieldBandMinSamples = 16384;
+  // The pixels of the rows the last sync() added of an append that was still pending
+  // (SyncInfo::pendingRows): to trace beside the new operations' dirtySpans().
+  PixelSpans pendingSpans() const;
+
   const OpGrid& grid() const { return grid_; }
   const HeightField& field() const { return field_; }
   double stepLength() const { return step_; }
@@ -117,6 +135,10 @@ class Renderer {
   struct SyncInfo {
     bool rebuilt = false;      // the whole field was (re)built
     long samplesUpdated = 0;   // field samples added to or recomputed
+    // The rows of an append still pending (fieldPending()) that it added first, the model having
+    // changed; empty when none: their pixels are pendingSpans().
+    Box2 pendingRows{0, 0, -1, -1};
+    double pendingPeak = 0.0;
   };
   const SyncInfo& lastSync() const { return lastSync_; }
   // The bytes held for the model followed: the height field, the index, the set operations'
@@ -157,6 +179,8 @@ class Renderer {
     Box2 region;
     double peak = 0.0;    // how far the operation appended or removed moves the sheet at most
     const PreparedOp* op = nullptr;  // that operation, while sync() runs (null: not known)
+    // Only the field's rows of an append made a band at a time (the shift fields added it whole).
+    bool fieldRowsOnly = false;
   };
   struct RayContext;
 
@@ -164,7 +188,15 @@ class Renderer {
   void rebuildField(const Model& model);
   void recomputeField(const Model& model, const HeightField::SampleRect& r);
   void syncSetOps(const Model& model);
+  // The box that holds every surface of the field tracer's function (fieldClip_).
+  void updateFieldClip(const Model& model);
   double peakOf(const Operation& o) const;
+  // Adds rows of the pending append for about `budgetMs` (at least eight), then their
+  // twists, bounds and cavities (finish()); returns the rows added.
+  HeightField::SampleRect addPendingRows(double budgetMs);
+  // The pixels that rows of samples in `box` can change, an operation moving the sheet by at most
+  // `peak` there (as dirtySpans() for an offset).
+  PixelSpans fieldRowsSpans(const Box2& box, double peak) const;
 
   // Rays through image point (sx, sy) (pixel x's centre is x + 0.5).
   std::optional<Hit> traceExact(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
@@ -235,6 +267,17 @@ class Renderer {
     HeightField::Saved samples;
   };
   SavedSamples saved_;
+  // The last offset appended while it is added a band of rows at a time (fieldBandMs):
+  // rows r.j0 .. nextRow - 1 of its samples hold it, the rest not yet.
+  struct PendingAppend {
+    bool active = false;
+    std::uint64_t id = 0;
+    size_t index = 0;
+    HeightField::SampleRect r;
+    int nextRow = 0;
+    double peak = 0.0;
+  };
+  PendingAppend pending_;
   int workpieceKind_ = 0;  // 1 plate, 2 disc, 3 bowl (known Lipschitz bounds), 4 outline sheet (2D vm), 0 other
   // Plates, discs and outline sheets: W(x, y, z') <= d - z', so f < 0 wherever z > D + d (above the
   // sheet's front face). d there, else negative.

@@ -1,5 +1,7 @@
 // The renderer takes in the model (the displacement field, its columns and set operations) and the
 // camera (renderer.h).
+#include <chrono>
+
 #include "render/renderer_internal.h"
 
 namespace emboss {
@@ -84,6 +86,7 @@ size_t Renderer::memoryBytes() const {
 }
 
 void Renderer::rebuildField(const Model& model) {
+  pending_ = {};
   saved_ = {};  // (its memory too: a cleared bench holds nothing of the last visitor's)
   const Box3 wb = model.workpiece().bounds();
   const Box2 domain = wb.xy().grown(kFieldMargin);
@@ -145,6 +148,20 @@ void Renderer::syncField(const Model& model) {
   const auto& ops = model.operations();
   const auto& ids = model.operationIds();
   const size_t active = model.activeCount();
+  if (pending_.active) {
+    // The model changed while an append was being added a band at a time. Standing, its other
+    // rows first (every sample's sum stays in index order); undone or replaced, the paths below
+    // put back or sum again the samples under it, its rows added so far and the rest alike.
+    if (pending_.index < active && ids[pending_.index] == pending_.id && pending_.index + 1 == fieldIds_.size() &&
+        fieldIds_.back() == pending_.id) {
+      const HeightField::SampleRect rest = addPendingRows(std::numeric_limits<double>::infinity());
+      const Box2 box{field_.sampleX(rest.i0), field_.sampleY(rest.j0), field_.sampleX(rest.i1), field_.sampleY(rest.j1)};
+      lastSync_.samplesUpdated += rest.count();
+      fieldChanges_.push_back({false, 0, box, pending_.peak, nullptr, true});
+      lastSync_.pendingRows = box, lastSync_.pendingPeak = pending_.peak;
+    }
+    pending_.active = false;
+  }
   size_t p = 0;
   while (p < fieldIds_.size() && p < active && fieldIds_[p] == ids[p]) ++p;
   // Appends each add their kernel to the samples under their support, continuing every sample's
@@ -160,9 +177,16 @@ void Renderer::syncField(const Model& model) {
           saved_.id = ids[i];
           saved_.valid = true;
         }
-        field_.add(op, &pool_);
-        field_.finish(r, &pool_);
-        lastSync_.samplesUpdated += r.count();
+        if (i + 1 == active && options_.fieldBandMs > 0 && r.count() > kFieldBandMinSamples && usesField()) {
+          // A big append (a raised region): its first rows now, the rest by continueField().
+          pending_ = {true, ids[i], i, r, r.j0, peakOf(op.op())};
+          lastSync_.samplesUpdated += addPendingRows(options_.fieldBandMs).count();
+        } else {
+          field_.add(op, &pool_);
+          field_.finish(r, &pool_);
+          lastSync_.samplesUpdated += r.count();
+        }
+        // (The set operations' shift fields add it whole; the kept hits under it are forgotten.)
         fieldChanges_.push_back({appended, static_cast<std::uint32_t>(i), op.support(), peakOf(op.op()), &op});
       }
       fieldIds_.push_back(ids[i]);
@@ -262,7 +286,7 @@ void Renderer::syncSetOps(const Model& model) {
       s.shift = std::move(old[reuse].shift);
       HeightField& f = *s.shift;
       for (const FieldChange& c : fieldChanges_) {
-        if (!c.region.overlaps(s.support)) continue;
+        if (c.fieldRowsOnly || !c.region.overlaps(s.support)) continue;
         const HeightField::SampleRect r = f.samplesIn(c.region);
         if (r.empty()) continue;
         if (c.append) {
@@ -286,7 +310,10 @@ void Renderer::syncSetOps(const Model& model) {
     s.zhi = tb.z1 + reach + shift.hi;
     setOps_.push_back(std::move(s));
   }
-  if (!fieldReady_) return;
+  if (fieldReady_) updateFieldClip(model);
+}
+
+void Renderer::updateFieldClip(const Model& model) {
   // Every surface of the field tracer's function: the workpiece moved by the field's range, and
   // the set operations' boxes.
   const Box3 wb = model.workpiece().bounds();
@@ -295,6 +322,64 @@ void Renderer::syncSetOps(const Model& model) {
   for (const SetOp& s : setOps_) clip = unite(clip, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi});
   const double m = 1e-6 * (1.0 + std::max({std::abs(clip.x0), std::abs(clip.x1), std::abs(clip.y0), std::abs(clip.y1)}));
   fieldClip_ = {clip.x0 - m, clip.y0 - m, clip.z0 - m, clip.x1 + m, clip.y1 + m, clip.z1 + m};
+}
+
+HeightField::SampleRect Renderer::addPendingRows(double budgetMs) {
+  // The rows of the operation (each sample the bits a whole add() gives it: a row's lanes are the
+  // same whatever the band), then finish() over them: the twists, leaves and cavities around the
+  // rows read the rows beside them, so the rows of the band before are refreshed again and the
+  // last band leaves every one as a whole add() and finish() do. First kMinRows rows, then as many
+  // more as the time they took says fit in the budget (finish() costs about 0.7 of the adding).
+  constexpr int kMinRows = 8;
+  const HeightField::SampleRect& r = pending_.r;
+  const PreparedOp& op = model_->operations()[pending_.index];
+  const auto t0 = std::chrono::steady_clock::now();
+  HeightField::SampleRect done{r.i0, pending_.nextRow, r.i1, pending_.nextRow - 1};
+  int rows = kMinRows;
+  while (done.j1 < r.j1) {
+    const HeightField::SampleRect band{r.i0, done.j1 + 1, r.i1, std::min(r.j1, done.j1 + rows)};
+    field_.add(op, band, &pool_);
+    done.j1 = band.j1;
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double perRow = ms / (done.j1 - done.j0 + 1), left = budgetMs / 1.7 - ms;
+    if (!(left >= kMinRows * perRow)) break;
+    rows = static_cast<int>(std::min(left / perRow, 1e6));
+  }
+  field_.finish(done, &pool_);
+  pending_.nextRow = done.j1 + 1;
+  if (pending_.nextRow > r.j1) pending_.active = false;
+  return done;
+}
+
+PixelSpans Renderer::continueField(double budgetMs) {
+  if (!pending_.active) return {};
+  if (!model_ || pending_.index >= model_->activeCount() || model_->operationIds()[pending_.index] != pending_.id) {
+    pending_.active = false;  // (sync() was not called after the model changed: it will see to it)
+    return {};
+  }
+  const HeightField::SampleRect band = addPendingRows(budgetMs);
+  // The kept hits the band can move, and the box of every surface.
+  const Box2 box{field_.sampleX(band.i0), field_.sampleY(band.j0), field_.sampleX(band.i1), field_.sampleY(band.j1)};
+  std::vector<std::uint64_t> setIds;
+  for (const SetOp& s : setOps_) setIds.push_back(s.id);
+  fieldChanges_.assign(1, FieldChange{false, 0, box, pending_.peak, nullptr, true});
+  forgetMovedHits(true, setIds);
+  fieldChanges_.clear();
+  updateFieldClip(*model_);
+  return fieldRowsSpans(box, pending_.peak);
+}
+
+PixelSpans Renderer::pendingSpans() const {
+  return lastSync_.pendingRows.empty() ? PixelSpans{} : fieldRowsSpans(lastSync_.pendingRows, lastSync_.pendingPeak);
+}
+
+PixelSpans Renderer::fieldRowsSpans(const Box2& box, double peak) const {
+  if (!camera_ || !model_) return {};
+  // As dirtySpans() for an offset: the samples' stencil, a ray cell, the shading's reach and a
+  // pixel for the anti-aliasing.
+  const double cell = step_ + 1e-6;
+  const Box3 reach = offsetReach(model_->workpiece().bounds(), box, 2.0 * std::sqrt(2.0) * field_.spacing() + cell + kCavityReach, peak);
+  return PixelSpans::of(projectBox(reach)).grown(1, camera_->width(), camera_->height());
 }
 
 namespace {

@@ -180,6 +180,8 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
   // What may be traced at once: a twentieth of a millisecond, so that the region is too big on
   // any machine.
   fc.setDirtyBudget(0.05);
+  fc.setFieldBandMs(0);  // (its field at once; see ABigRegionRisesABandOfRowsATurnToTheExactFrame)
+  fc.setPreviewScale(3);  // (the scale a busy machine's slow preview would have raised)
   const Image before = fc.frame();
   Operation region;
   region.kind = OpKind::Region;
@@ -220,6 +222,63 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
   fc.work(1000.0, changed, true);
   EXPECT_EQ(fc.counters().coarseRects, 1u);
   EXPECT_FALSE(fc.pending());
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
+}
+
+// A raised region over most of the sheet rises a band of rows a turn (its field work cut to
+// FrameComposer::kFieldBandMs a turn; here to eight rows): the first turn shows its first
+// rows, and the finished frame is a full render's. A punch made while it rises, and
+// the region undone while it rises, end the same way.
+TEST(FrameComposer, ABigRegionRisesABandOfRowsATurnToTheExactFrame) {
+  constexpr int w = 320, h = 200;
+  ThreadPool pool(2);
+  FrameComposer fc(pool, w, h);
+  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  const CameraSpec home = benchCamera(m.workpiece().bounds(), w, h);
+  const ShadingParams sh = sheetOf("copper");
+  fc.setFieldBandMs(0.001);  // eight rows a turn, on any machine
+  std::vector<Rect> changed;
+  fc.show(m, home, sh, {true, false, {}}, false);
+  fc.flush(changed);
+  Operation region;
+  region.kind = OpKind::Region;
+  region.side = Side::Back;
+  region.points = {{-26, -17}, {26, -17}, {26, 17}, {-26, 17}};
+  region.height = 0.8;
+  region.falloff = 2.0;
+  auto raise = [&] {
+    EXPECT_TRUE(m.add(region));
+    fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+    fc.work(1000.0, changed, true);
+  };
+  raise();
+  const Image first = fc.frame();
+  int turns = 1;
+  for (; fc.pending() && turns < 1000; ++turns) fc.work(1000.0, changed, true);
+  EXPECT_FALSE(fc.pending());
+  EXPECT_GE(fc.counters().fieldBands, 4u);
+  EXPECT_GE(turns, 5);
+  const Image exact = fullRender(pool, m, home, sh, w, h);
+  EXPECT_EQ(fc.frame().rgba, exact.rgba);
+  EXPECT_NE(first.rgba, exact.rgba) << "the first turn shows the region's first rows only";
+
+  // A punch while it rises (its other rows are added first), then the finished frame.
+  m.undo();
+  fc.show(m, home, sh, {false, false, {m.activeCount()}}, false);
+  fc.flush(changed);
+  raise();
+  ASSERT_TRUE(fc.pending());
+  ASSERT_TRUE(m.add(punch(5, 3)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  fc.flush(changed);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
+
+  // Undone while it rises.
+  raise();
+  ASSERT_TRUE(fc.pending());
+  m.undo();
+  fc.show(m, home, sh, {false, false, {m.activeCount()}}, false);
+  fc.flush(changed);
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
 }
 

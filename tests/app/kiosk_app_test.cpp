@@ -158,6 +158,39 @@ TEST(KioskApp, RecordedVisitorBecomesTheSessionAndTheSnapshotShowsIt) {
   EXPECT_GT(latency.count(), 20u);
 }
 
+// Six raised regions over most of the sheet (tests/app/data/big-regions.events): each rises a band
+// of rows a turn (Renderer::continueField), and the finished frame is a full render's.
+TEST(KioskApp, BigRegionsRiseToTheExactFrame) {
+  const fs::path dir = test::scratchDir("kiosk-app-regions");
+  double t = 100.0;
+  MemoryDisplay display(kW, kH);
+  KioskApp app(testConfig(dir), tinyPieces(), display, {}, [&] { return t; });
+  auto rec = parseEvemu(test::bigRegionsRecording());
+  ASSERT_TRUE(rec) << rec.error();
+  auto samples = evemuToSamples(*rec);
+  ASSERT_TRUE(samples) << samples.error();
+  ReplayPen pen(*samples, "regions", true);
+  app.setPen(&pen, PenMapping::Tablet, true);
+  for (int steps = 0; !app.feedDone() && steps < 100000; ++steps) {
+    app.step();
+    t += 0.01;
+  }
+  app.finish();
+  const Model& got = app.bench().model();
+  size_t regions = 0;
+  for (size_t i = 0; i < got.activeCount(); ++i) regions += got.operations()[i].op().kind == OpKind::Region;
+  EXPECT_EQ(regions, 6u);
+  EXPECT_FALSE(app.composer().pending());
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.sync(got);
+  r.setCamera(Camera(app.bench().homeCamera(), kW, kH));
+  r.setShading(app.bench().shading());
+  Image full;
+  r.renderFull(full);
+  EXPECT_EQ(app.composer().frame().rgba, full.rgba);
+}
+
 TEST(KioskApp, IdleVisitorIsSavedAndAttractResumes) {
   const fs::path dir = test::scratchDir("kiosk-app-idle");
   double t = 0;

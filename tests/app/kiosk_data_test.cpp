@@ -96,15 +96,19 @@ TEST(AttractPieces, AreDeterministic) {
   for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(sceneToJson(a[i].scene), sceneToJson(b[i].scene));
 }
 
-TEST(KioskData, DemoRecordingFileEqualsItsGenerator) {
-  const fs::path file = fs::path(EMBOSS_SOURCE_DIR) / "tests" / "app" / "data" / "visitor-demo.events";
-  const std::string text = test::visitorDemoRecording();
+// The recordings in tests/app/data are their generators' text (tests/app/demo_recording.h).
+void expectFileEquals(const char* name, const std::string& text) {
+  const fs::path file = fs::path(EMBOSS_SOURCE_DIR) / "tests" / "app" / "data" / name;
   if (updating()) {
     ASSERT_TRUE(writeFileAtomically(file, text));
     return;
   }
   EXPECT_EQ(test::readText(file), text) << "run the test with EMBOSS_UPDATE_KIOSK_DATA=1 to rewrite " << file;
 }
+
+TEST(KioskData, DemoRecordingFileEqualsItsGenerator) { expectFileEquals("visitor-demo.events", test::visitorDemoRecording()); }
+
+TEST(KioskData, BigRegionsRecordingFileEqualsItsGenerator) { expectFileEquals("big-regions.events", test::bigRegionsRecording()); }
 
 }  // namespace
 }  // namespace emboss

@@ -453,6 +453,90 @@ TEST(DirtyRegion, CullingOutsideAnOutlineChangesNoPixel) {
   EXPECT_GT(beadPixels, 0) << "the bead should be seen from some camera";
 }
 
+// A big raised region added to the field a band of rows at a time (RenderOptions::fieldBandMs:
+// here so short that each call adds eight rows), each band's pixels traced as it lands: part of it shows after the first,
+// and after the last the bytes are a fresh full render's. A stroke made while bands are pending
+// finishes them first, and an undo puts back the samples, both to the same bytes.
+TEST(DirtyRegion, ABigRegionAddedABandOfRowsAtATimeEndsAsAFullRender) {
+  const PieceOptions opt = smallPlate(1.6);
+  const GeneratedPiece piece = generatePiece(16, 23, opt);  // set operations among them
+  PieceRandom rng(41);
+  ThreadPool pool(2);
+  Renderer live(pool);
+  Model model(piece.workpiece, piece.deformation);
+  for (const Operation& op : piece.operations) ASSERT_TRUE(model.add(op).ok());
+  const Camera camera(piece.camera, 128, 80);
+  live.setCamera(camera);
+  live.setShading(shading(model));
+  RenderOptions options;
+  options.fieldBandMs = 1e-6;
+  constexpr long least = Renderer::kFieldBandMinSamples;
+  live.setOptions(options);
+  live.sync(model);
+  Image image;
+  live.renderFull(image);
+  auto region = [&] {
+    // One that more than a few bands hold.
+    for (;;) {
+      Operation o = randomRegion(rng, piece, opt.toolScale);
+      const PreparedOp p(o);
+      if (live.field().samplesIn(p.support()).count() > 5 * least) return o;
+    }
+  };
+
+  ASSERT_TRUE(model.add(region()).ok());
+  live.sync(model);
+  ASSERT_TRUE(live.fieldPending());
+  EXPECT_LE(live.lastSync().samplesUpdated, 8 * live.field().nx());  // its first eight rows only
+  ASSERT_TRUE(live.render(image, live.dirtySpans(model, model.activeCount() - 1)));
+  EXPECT_FALSE(againstFresh(model, camera, options, image).empty()) << "most of the region is not added yet";
+  int bands = 1;
+  while (live.fieldPending()) {
+    const PixelSpans s = live.continueField(options.fieldBandMs);
+    ASSERT_FALSE(s.empty());
+    ASSERT_TRUE(live.render(image, s));
+    ++bands;
+  }
+  EXPECT_GE(bands, 10);
+  EXPECT_TRUE(live.continueField(options.fieldBandMs).empty());
+  std::string diff = againstFresh(model, camera, options, image);
+  EXPECT_TRUE(diff.empty()) << "after " << bands << " bands: " << diff;
+
+  // A punch while a region's bands are pending: the sync adds the region's other rows first.
+  ASSERT_TRUE(model.add(region()).ok());
+  live.sync(model);
+  ASSERT_TRUE(live.render(image, live.dirtySpans(model, model.activeCount() - 1)));
+  ASSERT_TRUE(live.fieldPending());
+  EXPECT_TRUE(live.pendingSpans().empty());
+  ASSERT_TRUE(live.render(image, live.continueField(options.fieldBandMs)));
+  ASSERT_TRUE(live.fieldPending());
+  Operation punch = randomPunch(rng, piece, 0.3);
+  while (live.field().samplesIn(PreparedOp(punch).support()).count() > least) punch = randomPunch(rng, piece, 0.3);
+  ASSERT_TRUE(model.add(punch).ok());
+  live.sync(model);
+  EXPECT_FALSE(live.fieldPending());
+  const PixelSpans rest = live.pendingSpans();
+  EXPECT_FALSE(rest.empty());
+  ASSERT_TRUE(live.render(image, rest));
+  ASSERT_TRUE(live.render(image, live.dirtySpans(model, model.activeCount() - 1)));
+  diff = againstFresh(model, camera, options, image);
+  EXPECT_TRUE(diff.empty()) << "a punch after a pending region: " << diff;
+
+  // Undone while its bands are pending: the samples before it, the bytes before it.
+  ASSERT_TRUE(model.add(region()).ok());
+  live.sync(model);
+  ASSERT_TRUE(live.render(image, live.dirtySpans(model, model.activeCount() - 1)));
+  ASSERT_TRUE(live.render(image, live.continueField(options.fieldBandMs)));
+  ASSERT_TRUE(live.fieldPending());
+  model.undo();
+  live.sync(model);
+  EXPECT_FALSE(live.fieldPending());
+  EXPECT_TRUE(live.pendingSpans().empty());
+  ASSERT_TRUE(live.render(image, live.dirtySpans(model, model.activeCount())));
+  diff = againstFresh(model, camera, options, image);
+  EXPECT_TRUE(diff.empty()) << "a pending region undone: " << diff;
+}
+
 TEST(DirtyRegionSlow, ManySeeds) {
   for (unsigned seed = 10; seed < 16; ++seed) {
     runCase({seed % 2 ? PieceShape::Disc : PieceShape::Plate, Deformation::Sheet, false, 320, 200, 80, seed});
