@@ -56,10 +56,11 @@ struct RenderOptions {
   // the cavity term, a patina stroke) is shaded again at the hit kept from its last trace instead
   // of traced (false: every ray traced; the same picture, slower; for comparison).
   bool reuseHits = true;
-  // Field tracer: an appended offset over more than kFieldBandMinSamples field samples (a big
-  // raised region) is added for about this long in sync() (whole rows, at least eight),
-  // and the rest by continueField(), so that no frame waits for all of it. The field ends with
-  // the same bits however it is cut. 0: at once.
+  // Field tracer: an appended raised region over more than kFieldBandMinSamples field samples
+  // (the one offset that comes whole, when its contour closes, and the biggest; a stroke's live
+  // preview is replaced at every pen event) is added for about this long in sync() (whole rows,
+  // at least eight), and the rest by continueField(), so that no frame waits for all of it. The
+  // field ends with the same bits however it is cut. 0: at once.
   double fieldBandMs = 0.0;
 };
 

@@ -177,8 +177,10 @@ void Renderer::syncField(const Model& model) {
           saved_.id = ids[i];
           saved_.valid = true;
         }
-        if (i + 1 == active && options_.fieldBandMs > 0 && r.count() > kFieldBandMinSamples && usesField()) {
-          // A big append (a raised region): its first rows now, the rest by continueField().
+        if (i + 1 == active && op.op().kind == OpKind::Region && options_.fieldBandMs > 0 && r.count() > kFieldBandMinSamples &&
+            usesField()) {
+          // A big raised region: its first rows now, the rest by continueField(). (Only regions:
+          // a stroke's live preview is replaced at every pen event, and must show whole.)
           pending_ = {true, ids[i], i, r, r.j0, peakOf(op.op())};
           lastSync_.samplesUpdated += addPendingRows(options_.fieldBandMs).count();
         } else {

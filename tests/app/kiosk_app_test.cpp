@@ -171,6 +171,7 @@ TEST(KioskApp, BigRegionsRiseToTheExactFrame) {
   ASSERT_TRUE(samples) << samples.error();
   ReplayPen pen(*samples, "regions", true);
   app.setPen(&pen, PenMapping::Tablet, true);
+  const size_t tool = app.bench().toolIndex();
   for (int steps = 0; !app.feedDone() && steps < 100000; ++steps) {
     app.step();
     t += 0.01;
@@ -180,6 +181,7 @@ TEST(KioskApp, BigRegionsRiseToTheExactFrame) {
   size_t regions = 0;
   for (size_t i = 0; i < got.activeCount(); ++i) regions += got.operations()[i].op().kind == OpKind::Region;
   EXPECT_EQ(regions, 6u);
+  EXPECT_EQ(app.bench().toolIndex(), tool) << "the recording ends with the tool it began with (it is played in a loop)";
   EXPECT_FALSE(app.composer().pending());
   ThreadPool pool(2);
   Renderer r(pool);
