@@ -8,6 +8,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "frep/convex_hull.h"
 #include "frep/kernels.h"
 
 namespace emboss {
@@ -536,22 +537,9 @@ namespace {
 // The corners of the convex hull of `pts`, counter-clockwise (Andrew's monotone chain), fewer where
 // a corner lies within `slack` of the chord that passes it by: every point of `pts` is then within
 // `slack` of the hull of the corners returned.
-std::vector<Vec2> hullCorners(std::vector<Vec2> pts, double slack) {
-  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-  pts.erase(std::unique(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; }), pts.end());
-  if (pts.size() < 3) return pts;
-  auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
-  std::vector<Vec2> h(2 * pts.size());
-  size_t k = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && cross(h[k - 2], h[k - 1], pts[i]) <= 0) --k;
-    h[k++] = pts[i];
-  }
-  for (size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross(h[k - 2], h[k - 1], pts[i]) <= 0) --k;
-    h[k++] = pts[i];
-  }
-  h.resize(k - 1);
+std::vector<Vec2> hullCorners(const std::vector<Vec2>& pts, double slack) {
+  const std::vector<Vec2> h = convexHull(pts);
+  if (h.size() < 3) return h;
   // Corners within `slack` of a chord between two kept ones are dropped (a long smooth contour has
   // hundreds of corners a few micrometres off the chords).
   const size_t n = h.size();

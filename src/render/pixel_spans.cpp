@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "frep/convex_hull.h"
+
 namespace emboss {
 
 PixelSpans PixelSpans::of(const Rect& r) {
@@ -88,23 +90,9 @@ PixelSpans PixelSpans::band(int y0, int y1) const {
 
 void SpanBuilder::addHullOf(std::span<const glm::dvec2> points) {
   if (points.empty()) return;
-  // The convex hull (Andrew's monotone chain), counter-clockwise in y-down image coordinates.
-  std::vector<glm::dvec2> p(points.begin(), points.end());
-  std::sort(p.begin(), p.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-  auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-  };
-  std::vector<glm::dvec2> hullPts(2 * p.size());
-  size_t k = 0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(hullPts[k - 2], hullPts[k - 1], p[i]) <= 0) --k;
-    hullPts[k++] = p[i];
-  }
-  for (size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross(hullPts[k - 2], hullPts[k - 1], p[i]) <= 0) --k;
-    hullPts[k++] = p[i];
-  }
-  hullPts.resize(k > 1 ? k - 1 : 1);
+  // The convex hull (Andrew's monotone chain, frep/convex_hull.h), counter-clockwise in y-down
+  // image coordinates.
+  std::vector<glm::dvec2> hullPts = convexHull(std::vector<glm::dvec2>(points.begin(), points.end()));
   const size_t n = hullPts.size();
 
   // Pixel row y is kept where the band [y - 1, y + 2] of image y (the row and a pixel each way)

@@ -43,6 +43,17 @@ Operation punch(double x, double y) {
   return op;
 }
 
+// A region raised from behind: the rectangle of half sides hx, hy round the sheet's centre.
+Operation raisedRectangle(double hx, double hy) {
+  Operation op;
+  op.kind = OpKind::Region;
+  op.side = Side::Back;
+  op.points = {{-hx, -hy}, {hx, -hy}, {hx, hy}, {-hx, hy}};
+  op.height = 0.8;
+  op.falloff = 2.0;
+  return op;
+}
+
 Operation sphereOn(double x, double y) {
   Operation op;
   op.kind = OpKind::BlendUnion;
@@ -183,13 +194,7 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
   fc.setFieldBandMs(0);  // (its field at once; see ABigRegionRisesABandOfRowsATurnToTheExactFrame)
   fc.setPreviewScale(3);  // (the scale a busy machine's slow preview would have raised)
   const Image before = fc.frame();
-  Operation region;
-  region.kind = OpKind::Region;
-  region.side = Side::Back;
-  region.points = {{-18, -12}, {18, -12}, {18, 12}, {-18, 12}};
-  region.height = 0.8;
-  region.falloff = 2.0;
-  ASSERT_TRUE(m.add(region));
+  ASSERT_TRUE(m.add(raisedRectangle(18, 12)));
   fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
   changed.clear();
   fc.work(1000.0, changed, true);
@@ -240,12 +245,7 @@ TEST(FrameComposer, ABigRegionRisesABandOfRowsATurnToTheExactFrame) {
   std::vector<Rect> changed;
   fc.show(m, home, sh, {true, false, {}}, false);
   fc.flush(changed);
-  Operation region;
-  region.kind = OpKind::Region;
-  region.side = Side::Back;
-  region.points = {{-26, -17}, {26, -17}, {26, 17}, {-26, 17}};
-  region.height = 0.8;
-  region.falloff = 2.0;
+  const Operation region = raisedRectangle(26, 17);
   auto raise = [&] {
     EXPECT_TRUE(m.add(region));
     fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
