@@ -155,11 +155,7 @@ void forBands(const HeightField::SampleRect& r, ThreadPool* pool, int minRows, F
 }
 }  // namespace
 
-void HeightField::add(const PreparedOp& op, ThreadPool* pool) {
-  if (!op.op().isOffset()) return;
-  const SampleRect r = samplesIn(op.support());
-  if (!r.empty()) forBands(r, pool, 4, [&](const SampleRect& b) { addTo(op, b); });
-}
+void HeightField::add(const PreparedOp& op, ThreadPool* pool) { add(op, all(), pool); }
 
 void HeightField::add(const PreparedOp& op, const SampleRect& rows, ThreadPool* pool) {
   if (!op.op().isOffset()) return;

@@ -183,6 +183,9 @@ class Renderer {
     // Only the field's rows of an append made a band at a time (the shift fields added it whole).
     bool fieldRowsOnly = false;
   };
+  // Forgets the kept hits these changes of the field can move (together they move the sheet by
+  // at most the sum of their peaks).
+  void forgetHitsNear(const std::vector<FieldChange>& changes);
   struct RayContext;
 
   void syncField(const Model& model);

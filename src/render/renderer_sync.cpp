@@ -47,15 +47,20 @@ void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& 
   // under a set operation moves its tool where the offset reaches: the heights below.)
   bool all = !followed || !fieldReady_ || lastSync_.rebuilt || setOps_.size() != setIdsBefore.size();
   for (size_t k = 0; k < setOps_.size() && !all; ++k) all = setOps_[k].id != setIdsBefore[k];
+  if (!all) {
+    forgetHitsNear(fieldChanges_);
+    return;
+  }
+  for (HitCache& cache : hitCaches_)
+    if (cache.camera) std::fill(cache.t.begin(), cache.t.end(), std::numeric_limits<double>::quiet_NaN());
+}
+
+void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
   double peaks = 0.0;  // how far the changes together move the sheet at most, anywhere
-  for (const FieldChange& c : fieldChanges_) peaks += c.peak;
+  for (const FieldChange& c : changes) peaks += c.peak;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (HitCache& cache : hitCaches_) {
     if (!cache.camera) continue;
-    if (all) {
-      std::fill(cache.t.begin(), cache.t.end(), nan);
-      continue;
-    }
     // What a change of D can move: the hit's sign changes, the values in its cell and its normal
     // (the field's stencil, two samples round the samples changed), the box dirtySpansOfRays()
     // projects without the shading's reach; the sheet before and after within `peaks` of now.
@@ -68,7 +73,7 @@ void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& 
         if (!row.empty()) std::fill(cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x0, cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x1, nan);
       }
     };
-    for (const FieldChange& c : fieldChanges_) {
+    for (const FieldChange& c : changes) {
       const Box3 box = offsetReach(model_->workpiece().bounds(), c.region, grow, peaks);
       // Near the operation's convex pieces when it is known, else the box's rectangle.
       forget(c.op ? piecesSpans(camera, c.op->supportPieces(), grow, box) : PixelSpans::of(projectBox(camera, box)));
@@ -362,11 +367,7 @@ PixelSpans Renderer::continueField(double budgetMs) {
   const HeightField::SampleRect band = addPendingRows(budgetMs);
   // The kept hits the band can move, and the box of every surface.
   const Box2 box{field_.sampleX(band.i0), field_.sampleY(band.j0), field_.sampleX(band.i1), field_.sampleY(band.j1)};
-  std::vector<std::uint64_t> setIds;
-  for (const SetOp& s : setOps_) setIds.push_back(s.id);
-  fieldChanges_.assign(1, FieldChange{false, 0, box, pending_.peak, nullptr, true});
-  forgetMovedHits(true, setIds);
-  fieldChanges_.clear();
+  forgetHitsNear({FieldChange{false, 0, box, pending_.peak, nullptr, true}});
   updateFieldClip(*model_);
   return fieldRowsSpans(box, pending_.peak);
 }

@@ -454,9 +454,10 @@ TEST(DirtyRegion, CullingOutsideAnOutlineChangesNoPixel) {
 }
 
 // A big raised region added to the field a band of rows at a time (RenderOptions::fieldBandMs:
-// here so short that each call adds eight rows), each band's pixels traced as it lands: part of it shows after the first,
-// and after the last the bytes are a fresh full render's. A stroke made while bands are pending
-// finishes them first, and an undo puts back the samples, both to the same bytes.
+// here so short that each call adds eight rows), each band's pixels traced as it lands: part of
+// it shows after the first, and after the last the bytes are a fresh full render's. A stroke made
+// while bands are pending finishes them first, and an undo puts back the samples, both to the
+// same bytes.
 TEST(DirtyRegion, ABigRegionAddedABandOfRowsAtATimeEndsAsAFullRender) {
   const PieceOptions opt = smallPlate(1.6);
   const GeneratedPiece piece = generatePiece(16, 23, opt);  // set operations among them
