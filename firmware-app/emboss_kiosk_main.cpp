@@ -34,6 +34,7 @@
 #include "pen/pen_probe.h"
 #include "pen/pen_replay.h"
 #include "pieces/pieces.h"
+#include "render/table_cache.h"
 #include "system/staff_socket.h"
 #include "system/system_notify.h"
 #include "util/progress_beat.h"
@@ -213,6 +214,8 @@ int main(int argc, char** argv) {
     if (!piecesDir.empty()) config.piecesDir = piecesDir;
     if (!exportDir.empty()) config.exportDir = exportDir;
     if (threads >= 0) config.threads = threads;
+    // The metals' shading tables are kept between starts (a restart shows its first frame sooner).
+    setTableCache(defaultTableCacheDir(), logLine);
     const bool replay = config.tablet.rfind("evemu:", 0) == 0;
     if (fast && !replay) {
       logLine("--fast feeds a recording: give --tablet=evemu:PATH as well");

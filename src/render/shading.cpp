@@ -3,18 +3,22 @@
 // scattering compensated), the planishing hammer's dimples, and occlusion in the cavities.
 #include "render/shading.h"
 
+#include "render/table_cache.h"
 #include "render/thread_pool.h"
 
 #include <algorithm>
 #include <cmath>
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 namespace emboss {
@@ -134,6 +138,9 @@ class SphereMap {
     else
       rows(Rect{0, 0, size_, size_});
   }
+  // A map from its texels (as texels() gave them: size * size of them).
+  SphereMap(int size, std::vector<glm::vec3> texels) : size_(size), texels_(std::move(texels)) {}
+  const std::vector<glm::vec3>& texels() const { return texels_; }
   glm::dvec3 lookup(const glm::dvec3& d) const {
     const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
     double u = d.x / l1, v = d.y / l1;
@@ -220,6 +227,7 @@ struct MetalResponse {
   // the Fresnel term averaged over the bounces (the same for every mu: worked out once).
   glm::dvec3 fms{0.0};
 
+  MetalResponse() = default;
   explicit MetalResponse(const Metal& m) {
     const double alpha = m.roughness;
     constexpr unsigned kSamples = 1024;
@@ -304,17 +312,91 @@ glm::dvec2 hammerGradient(double x, double y, double slope) {
 
 // Everything computed once per metal (and shared by every thread for the program's life).
 struct MetalTables {
-  MetalTables(const Metal& m, ThreadPool* pool)
-      : response(m),
-        specular(kSpecularSize,
-                 [h = ggxHalfVectors(m.roughness, 128)](const glm::dvec3& d) { return prefilteredEnvironment(d, h); }, pool) {}
   static constexpr int kSpecularSize = 192;
+  static constexpr unsigned kSpecularSamples = 128;
   MetalResponse response;
   SphereMap specular;
 };
 
-const SphereMap& irradianceMap() {
-  static const SphereMap map(48, irradiance);
+// The tables as bytes, for the table cache (plain copies of the numbers: the cache is read back only
+// by the build that wrote it, on the same machine).
+template <class T>
+void putBytes(std::vector<std::uint8_t>& out, const T& v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  const auto* b = reinterpret_cast<const std::uint8_t*>(&v);
+  out.insert(out.end(), b, b + sizeof v);
+}
+template <class T>
+void getBytes(const std::uint8_t*& in, T& v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  std::memcpy(&v, in, sizeof v);
+  in += sizeof v;
+}
+
+std::vector<std::uint8_t> sphereMapBytes(const SphereMap& map) {
+  std::vector<std::uint8_t> out;
+  const auto& t = map.texels();
+  out.resize(t.size() * sizeof(glm::vec3));
+  std::memcpy(out.data(), t.data(), out.size());
+  return out;
+}
+SphereMap sphereMapOf(int size, const std::uint8_t* in) {
+  std::vector<glm::vec3> t(static_cast<size_t>(size) * size);
+  std::memcpy(t.data(), in, t.size() * sizeof(glm::vec3));
+  return SphereMap(size, std::move(t));
+}
+
+// A metal's tables: from the table cache when this build kept them there, else computed (and kept).
+std::unique_ptr<MetalTables> makeTables(const Metal& m, ThreadPool* pool) {
+  // What the tables depend on: the metal's constants and the tables' sizes. The cache's file is per
+  // metal; its key adds the build (whose code computes them).
+  std::uint64_t what = fnv1a64(m.name.data(), m.name.size());
+  what = fnv1a64(&m.roughness, sizeof m.roughness, what);
+  what = fnv1a64(m.eta.data(), sizeof m.eta, what);
+  what = fnv1a64(m.k.data(), sizeof m.k, what);
+  const int sizes[] = {MetalResponse::kBins, MetalTables::kSpecularSize, static_cast<int>(MetalTables::kSpecularSamples)};
+  what = fnv1a64(sizes, sizeof sizes, what);
+  const std::uint64_t build = buildFingerprint();
+  const std::uint64_t key = fnv1a64(&build, sizeof build, what);
+  char name[96];
+  std::snprintf(name, sizeof name, "metal-%.*s-%016llx", static_cast<int>(m.name.size()), m.name.data(),
+                static_cast<unsigned long long>(what));
+  constexpr size_t kResponseBytes = sizeof(MetalResponse::single) + sizeof(MetalResponse::albedo) + 2 * sizeof(glm::dvec3) + sizeof(double);
+  constexpr size_t kSpecularBytes = sizeof(glm::vec3) * MetalTables::kSpecularSize * MetalTables::kSpecularSize;
+  if (auto bytes = loadTable(name, key, kResponseBytes + kSpecularBytes)) {
+    const std::uint8_t* in = bytes->data();
+    MetalResponse r;
+    getBytes(in, r.single), getBytes(in, r.albedo), getBytes(in, r.favg), getBytes(in, r.eavg), getBytes(in, r.fms);
+    return std::make_unique<MetalTables>(MetalTables{r, sphereMapOf(MetalTables::kSpecularSize, in)});
+  }
+  auto t = std::make_unique<MetalTables>(MetalTables{
+      MetalResponse(m),
+      SphereMap(MetalTables::kSpecularSize,
+                [h = ggxHalfVectors(m.roughness, MetalTables::kSpecularSamples)](const glm::dvec3& d) {
+                  return prefilteredEnvironment(d, h);
+                },
+                pool)});
+  if (!tableCacheDir().empty()) {
+    std::vector<std::uint8_t> out;
+    const MetalResponse& r = t->response;
+    putBytes(out, r.single), putBytes(out, r.albedo), putBytes(out, r.favg), putBytes(out, r.eavg), putBytes(out, r.fms);
+    const auto spec = sphereMapBytes(t->specular);
+    out.insert(out.end(), spec.begin(), spec.end());
+    storeTable(name, key, out);
+  }
+  return t;
+}
+
+const SphereMap& irradianceMap(ThreadPool* pool = nullptr) {
+  static constexpr int kSize = 48;
+  static const SphereMap map = [pool] {
+    const std::uint64_t build = buildFingerprint();
+    const std::uint64_t key = fnv1a64(&build, sizeof build, fnv1a64(&kSize, sizeof kSize));
+    if (auto bytes = loadTable("irradiance", key, sizeof(glm::vec3) * kSize * kSize)) return sphereMapOf(kSize, bytes->data());
+    SphereMap m(kSize, irradiance, pool);
+    if (!tableCacheDir().empty()) storeTable("irradiance", key, sphereMapBytes(m));
+    return m;
+  }();
   return map;
 }
 
@@ -328,7 +410,7 @@ const MetalTables& tablesFor(const Metal& m, ThreadPool* pool = nullptr) {
   static std::map<std::tuple<std::string, double, std::array<double, 3>, std::array<double, 3>>, std::unique_ptr<MetalTables>> tables;
   std::lock_guard lock(mutex);
   auto& slot = tables[{std::string(m.name), m.roughness, m.eta, m.k}];
-  if (!slot) slot = std::make_unique<MetalTables>(m, pool);
+  if (!slot) slot = makeTables(m, pool);
   lastMetal = m;
   last = slot.get();
   return *last;
@@ -372,7 +454,7 @@ glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dv
 
 void prepareShading(const Metal& metal, ThreadPool* pool) {
   tablesFor(metal, pool);
-  irradianceMap();
+  irradianceMap(pool);
 }
 
 glm::dvec3 metalAlbedo(const Metal& metal, double cosView) {

@@ -52,8 +52,10 @@ hostname emboss-hil
 cat > /bin/hil-chroot <<'X'
 #!/bin/sh
 # Runs a command in the chroot (the host's root), in the caller's directory, with a clean environment.
+# XDG_CACHE_HOME: one cache for every test (each gives its kiosk a HOME of its own), where the job
+# puts the kiosk's shading tables made on the host (hil-tests.sh).
 exec chroot /host /usr/bin/env -i PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin HOME=/tmp \
-  TMPDIR=/tmp LANG=C.UTF-8 TERM=dumb EMBOSS_HIL=1 HIL_KDIR="$HIL_KDIR" \
+  XDG_CACHE_HOME=/tmp/.cache TMPDIR=/tmp LANG=C.UTF-8 TERM=dumb EMBOSS_HIL=1 HIL_KDIR="$HIL_KDIR" \
   /bin/sh -c 'cd "$1" 2>/dev/null || cd /; shift; exec "$@"' sh "$HIL_CWD" "$@"
 X
 chmod +x /bin/hil-chroot
