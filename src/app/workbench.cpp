@@ -239,7 +239,7 @@ void Workbench::endStroke() {
   // The rest belongs to the same stroke as the operations already handed out.
   const size_t before = model_->activeCount();
   for (const auto& op : f.rest)
-    if (model_->add(op)) changes_.ops.push_back(model_->activeCount() - 1), ++committed_;
+    if (admit(op) && model_->add(op)) changes_.ops.push_back(model_->activeCount() - 1), ++committed_;
   const size_t added = model_->activeCount() - before;
   if (added) {
     if (strokeOpen_ && !strokes_.empty()) strokes_.back() += added;
@@ -250,10 +250,24 @@ void Workbench::endStroke() {
   strokeOpen_ = false;
 }
 
+bool Workbench::admit(const Operation& op) const {
+  if (op.kind != OpKind::BlendUnion && op.kind != OpKind::BlendSubtract) return true;
+  const Vec3& c = op.tool.center;
+  int covering = 0;
+  const auto& ops = model_->operations();
+  for (size_t i = 0; i < model_->activeCount(); ++i) {
+    const Operation& o = ops[i].op();
+    if (o.isOffset() || o.kind == OpKind::Patina) continue;
+    const Box3 b = o.tool.bounds();
+    if (c.x >= b.x0 && c.x <= b.x1 && c.y >= b.y0 && c.y <= b.y1 && ++covering >= kMaxBlendsOnASpot) return false;
+  }
+  return true;
+}
+
 void Workbench::commit(const std::vector<Operation>& ops) {
   size_t added = 0;
   for (const auto& op : ops)
-    if (model_->add(op)) changes_.ops.push_back(model_->activeCount() - 1), ++added, ++committed_;
+    if (admit(op) && model_->add(op)) changes_.ops.push_back(model_->activeCount() - 1), ++added, ++committed_;
   if (!added) return;
   redo_.clear();
   if (strokeOpen_) strokes_.back() += added;

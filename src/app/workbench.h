@@ -108,6 +108,17 @@ class Workbench {
  private:
   void endStroke();
   void commit(const std::vector<Operation>& ops);
+  // Whether the sheet takes `op`: a blending punch's bead is left out where kMaxBlendsOnASpot set
+  // operations already cover its centre. Each blend is an R-function union whose value around the
+  // spot moves towards zero as more are stacked there, and a ray near such a stack must then be
+  // searched point by point (hundreds of evaluations of dozens of operations each): a visitor going
+  // over the same place again and again with the punch would grind the kiosk to a halt.
+  bool admit(const Operation& op) const;
+
+ public:
+  static constexpr int kMaxBlendsOnASpot = 3;
+
+ private:
   void undoOps(size_t n);
   void setView(bool turned, double now);
   void refreshMapping();

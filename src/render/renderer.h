@@ -31,13 +31,14 @@ struct RenderStats {
   double shadeSeconds = 0.0;      // time spent on the second pass: edges' extra rays, sRGB (likewise)
   std::uint64_t edgePixels = 0;   // pixels anti-aliased with two extra rays
   std::uint64_t reshaded = 0;     // centre rays not traced again: their kept hit shaded anew
+  std::uint64_t denseRays = 0;    // field-tracer rays through a tangle of set operations (kDenseSetOps)
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
   double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
   RenderStats& operator+=(const RenderStats& o) {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
     fieldEvaluations += o.fieldEvaluations, edgePixels += o.edgePixels, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
-    reshaded += o.reshaded;
+    reshaded += o.reshaded, denseRays += o.denseRays;
     return *this;
   }
 };

@@ -44,7 +44,7 @@ double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderSta
   } else {
     d = exactDisplacement(P3<double>{p.x, p.y, p.z}, grid_.at(p.x, p.y, scratch), st);
   }
-  const int n = rc.allSetOps ? static_cast<int>(setOps_.size()) : rc.setOpCount;
+  const int n = rc.setOpCount;
   double v;
   if (workpieceKind_ == 4) {
     const double slab = columns_.halfThickness - std::abs(p.z - d);
@@ -52,7 +52,7 @@ double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderSta
     const ColumnMap::Column col = columns_.at(p.x, p.y);
     bool underSet = false;
     for (int k = 0; k < n && !underSet; ++k)
-      underSet = (rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k]).support.contains(p.x, p.y);
+      underSet = rc.setOps[k]->support.contains(p.x, p.y);
     if (slab <= col.lo)
       v = slab;
     else if (col.hi < 0.0f && !underSet)
@@ -64,7 +64,7 @@ double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderSta
     if (lipschitzValue) *lipschitzValue = v;
   }
   for (int k = 0; k < n; ++k) {
-    const SetOp& s = rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k];
+    const SetOp& s = *rc.setOps[k];
     if (!s.support.contains(p.x, p.y)) continue;  // combine() is exactly the identity there
     const double shift = s.shift->value(p.x, p.y);
     v = model_->operations()[s.index].combine(v, P3<double>{p.x, p.y, p.z - shift});
@@ -111,10 +111,10 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
         }
     }
   }
-  const int nSet = rc.allSetOps ? static_cast<int>(setOps_.size()) : rc.setOpCount;
+  const int nSet = rc.setOpCount;
   bool setOpHere = false;
   for (int k = 0; k < nSet && !setOpHere; ++k) {
-    const SetOp& s = rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k];
+    const SetOp& s = *rc.setOps[k];
     setOpHere = s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi;
   }
   if (workpieceKind_ == 4 && columnsOk && !anyInside && !setOpHere) return true;  // all outside
@@ -152,7 +152,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
       v = workpieceValue(P3<Interval>{box.x, box.y, box.z - d});
   }
   for (int k = 0; k < nSet; ++k) {
-    const SetOp& s = rc.allSetOps ? setOps_[static_cast<size_t>(k)] : *rc.setOps[k];
+    const SetOp& s = *rc.setOps[k];
     if (!s.support.overlaps(xy) || box.z.hi < s.zlo || box.z.lo > s.zhi) continue;
     const Box2 in{std::max(xy.x0, s.support.x0), std::max(xy.y0, s.support.y0), std::min(xy.x1, s.support.x1),
                   std::min(xy.y1, s.support.y1)};
@@ -209,14 +209,12 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   RayContext rc;
   const glm::dvec3 pa = at(q0), pb = at(q1);
   const Box2 reach{std::min(pa.x, pb.x), std::min(pa.y, pb.y), std::max(pa.x, pb.x), std::max(pa.y, pb.y)};
-  for (const SetOp& s : setOps_) {
-    if (!s.support.overlaps(reach)) continue;
-    if (rc.setOpCount == RayContext::kMaxSetOps) {
-      rc.allSetOps = true;
-      break;
-    }
-    rc.setOps[rc.setOpCount++] = &s;
-  }
+  thread_local std::vector<const SetOp*> rayOps;
+  rayOps.clear();
+  for (const SetOp& s : setOps_)
+    if (s.support.overlaps(reach)) rayOps.push_back(&s);
+  rc.setOps = rayOps.data();
+  rc.setOpCount = static_cast<int>(rayOps.size());
   const Box2 dom = field_.domain();
   double tda = 0, tdb = 0;
   const bool reachInDomain = field_.containsBox(reach);
@@ -232,8 +230,21 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     if (qa >= q0) rc.skipLo[rc.skips] = q0, rc.skipHi[rc.skips] = qa, ++rc.skips;
     if (qb <= q1) rc.skipLo[rc.skips] = qb, rc.skipHi[rc.skips] = q1, ++rc.skips;
     // The windows where a set operation can act: the ray inside its box.
-    if (rc.allSetOps) {
-      rc.winLo[0] = q0, rc.winHi[0] = q1, rc.windows = 1;
+    // A ray through many set operations' boxes (a tangle of a blending punch's beads) is dense:
+    // one window from the first box to the last, searched on the cells' ends (below). Whether a
+    // ray is dense and its window are functions of the ray and the model alone (every set
+    // operation's box, whatever the clip), so a dirty update finds the hit a full render finds.
+    int crossed = 0;
+    double denseA = 1e300, denseB = -1e300;
+    for (const SetOp& s : setOps_) {
+      double ta, tb;
+      if (!clipRay(ray, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}, ta, tb)) continue;
+      ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);
+    }
+    if (crossed >= kDenseSetOps) {
+      rc.dense = true;
+      ++st.denseRays;
+      rc.addWindow(static_cast<long>(std::floor(denseA / h8)) - 1, static_cast<long>(std::ceil(denseB / h8)) + 1, q1);
     } else {
       for (int k = 0; k < rc.setOpCount; ++k) {
         const SetOp& s = *rc.setOps[k];
@@ -320,7 +331,10 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   double bfa = 0, bfb = 0;
   auto search = [&](auto& self, long qa, const Val& a, long qb, const Val& b, bool checked) -> bool {
     ++st.steps;
-    if (b.f < 0.0 && !checked && empty(qa, a, qb, b)) return false;
+    // A dense ray's window is sampled: a cell whose end is outside is passed, and one whose end is
+    // inside is bisected to a crossing (no interval tests, which fail near such a tangle and
+    // would send the search down to every sixty-fourth of the cell).
+    if (b.f < 0.0 && !checked && ((rc.dense && rc.inWindow(qa, qb)) || empty(qa, a, qb, b))) return false;
     if (qb - qa == 1) {
       if (b.f < 0.0) return false;
       bq = qb, bfa = a.f, bfb = b.f;
@@ -434,13 +448,16 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
         break;
       }
     }
-    const Val fb = value(q + kCell);
-    if (search(search, q, fa, q + kCell, fb, cellChecked)) {
+    // A dense ray's window is searched on the cells of the grid of the whole ray (q multiple of
+    // kCell, whatever the clip): the first step into it goes to the next such end.
+    const long qn = rc.dense ? (q >= 0 ? q / kCell + 1 : -((-q) / kCell)) * kCell : q + kCell;
+    const Val fb = value(qn);
+    if (search(search, q, fa, qn, fb, cellChecked)) {
       bracketed = true;
       break;
     }
-    prevQ = q0 - 2;  // f(q + kCell - 1) is not known
-    q += kCell, fa = fb;
+    prevQ = q0 - 2;  // f(qn - 1) is not known
+    q = qn, fa = fb;
   }
   if (bracketed) {
     // The secant inside [bq - 1, bq]: a function of f at those two points alone. That sixty-fourth

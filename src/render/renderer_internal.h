@@ -35,6 +35,9 @@ inline constexpr int kThinSplits = 3;
 inline constexpr double kFieldSpacing = 0.125;    // mm between displacement samples
 inline constexpr double kMaxFieldSamples = 32e6;  // beyond this the spacing grows (a huge workpiece)
 inline constexpr double kFieldMargin = 2.0;       // mm of field beyond the workpiece's bounds
+// Set operations' boxes a field-tracer ray crosses from which it is searched on its cells' ends
+// inside their window (traceField: a tangle of a blending punch's beads).
+inline constexpr int kDenseSetOps = 8;
 inline constexpr int kSubdivisions = 64;          // a cell is searched down to h / 64 (as the exact tracer)
 inline constexpr double kPruneEps = 1e-7;         // mm: a bound must clear zero by this much to skip
 inline constexpr int kRecomputeTile = 64;         // samples per side of a field tile recomputed in parallel
@@ -104,10 +107,13 @@ inline Box3 unite(const Box3& a, const Box3& b) {
 // Per ray: the set operations its cells can meet, the windows of the ray where they can act,
 // and the Lipschitz constant of f outside those windows when there is one.
 struct Renderer::RayContext {
-  static constexpr int kMaxSetOps = 32;
-  const SetOp* setOps[kMaxSetOps];
+  // The set operations whose support meets the ray's reach, in the model's order (held by a
+  // per-thread list: any number of them, so that a ray over hundreds of a blending punch's beads
+  // still tests only those its reach meets, each within its own window).
+  const SetOp* const* setOps = nullptr;
   int setOpCount = 0;
-  bool allSetOps = false;  // more than kMaxSetOps: test every one
+  // Through at least kDenseSetOps set operations' boxes: its window is searched on the cells' ends.
+  bool dense = false;
   // Lipschitz: W is 1-Lipschitz and D comes from the field along the whole ray, so outside the
   // windows |df/dt| <= lf; inside them (and everywhere without it) intervals bound f.
   bool lipschitz = false;

@@ -11,6 +11,7 @@
 #include "app/workbench.h"
 #include "frep/workpieces.h"
 #include "scene/scene.h"
+#include "tools/tool_catalogue.h"
 
 namespace emboss {
 namespace {
@@ -151,6 +152,40 @@ TEST(Workbench, AStrokeBecomesTheCatalogueOperationsOfThatStroke) {
   for (size_t i = 0; i < ops.size(); ++i) EXPECT_TRUE(sameOperation(b.model().operations()[i].op(), ops[i]));
   const auto ch = b.takeChanges();
   EXPECT_EQ(ch.ops.size(), ops.size());
+}
+
+// Going over the same place again and again with the blending punch stacks at most
+// kMaxBlendsOnASpot beads there (more would make the tracer search the spot point by point); a
+// first pass elsewhere is whole.
+TEST(Workbench, TheBlendingPunchStacksAFewBeadsOnASpotAtMost) {
+  Workbench b = makeBench();
+  b.resetForVisitor(0);
+  while (b.tool().kind != ToolKind::BlendPunch) b.apply(Action::NextTool, 0);
+  double t = 0;
+  const auto path = line({-20, 0}, {20, 0}, 80);
+  drag(b, path, 0.6, t);
+  const size_t firstPass = b.model().activeCount();
+  ASSERT_GT(firstPass, 8u);
+  for (int pass = 1; pass < 10; ++pass) drag(b, path, 0.6, t);
+  const size_t onTheLine = b.model().activeCount();
+  EXPECT_GE(onTheLine, 2 * firstPass);
+  EXPECT_LE(onTheLine, static_cast<size_t>(Workbench::kMaxBlendsOnASpot + 1) * firstPass);
+  // Each bead was admitted where fewer than kMaxBlendsOnASpot earlier ones covered its centre.
+  const auto& ops = b.model().operations();
+  for (size_t i = 0; i < onTheLine; ++i) {
+    const Vec3& c = ops[i].op().tool.center;
+    int covering = 0;
+    for (size_t j = 0; j < i; ++j) {
+      const Box3 box = ops[j].op().tool.bounds();
+      covering += c.x >= box.x0 && c.x <= box.x1 && c.y >= box.y0 && c.y <= box.y1;
+    }
+    EXPECT_LT(covering, Workbench::kMaxBlendsOnASpot) << "bead " << i;
+  }
+  // A fresh line beside it takes every bead of its pass, and one undo takes them back.
+  drag(b, line({-20, 12}, {20, 12}, 80), 0.6, t);
+  EXPECT_NEAR(static_cast<double>(b.model().activeCount() - onTheLine), static_cast<double>(firstPass), 1.0);
+  b.apply(Action::Undo, t);
+  EXPECT_EQ(b.model().activeCount(), onTheLine);
 }
 
 TEST(Workbench, UndoAndRedoTakeWholeStrokes) {

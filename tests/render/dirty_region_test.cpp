@@ -311,6 +311,48 @@ TEST(DirtyRegion, KeptHitsUnderASetOperationsToolAreTracedAgain) {
   EXPECT_GT(reshaded, 0u);
 }
 
+// A blending punch's beads gone round an ellipse three times: the rays through the tangle are
+// searched on their cells' ends (dense rays), and a dirty update after each bead still gives the
+// bytes of a fresh full render.
+TEST(DirtyRegion, ATangleOfBlendBeadsEndsAsAFullRender) {
+  const GeneratedPiece piece = generatePiece(1, 0, smallPlate(1.0));
+  ThreadPool pool(2);
+  Renderer live(pool);
+  Model model(piece.workpiece, piece.deformation);
+  const Camera camera(piece.camera, 160, 100);
+  live.setCamera(camera);
+  live.setShading(shading(model));
+  live.sync(model);
+  Image image;
+  live.renderFull(image);
+  const RenderOptions options;
+  std::uint64_t dense = 0;
+  constexpr int kBeads = 36;
+  for (int i = 0; i < kBeads; ++i) {
+    // 2.1 mm apart round an ellipse of some 75 mm: three laps, each bead on the last lap's.
+    const double a = i * 2.1 / 12.0;
+    Operation bead;
+    bead.kind = OpKind::BlendUnion;
+    bead.tool.type = ToolShape::Type::Sphere;
+    bead.tool.r = 1.5;
+    bead.tool.center = {14.0 * std::cos(a), 9.0 * std::sin(a), 0.5 - 1.5 + 0.4};
+    bead.a1 = 0.45, bead.a2 = 0.75, bead.a3 = 1.5;
+    ASSERT_TRUE(model.add(bead).ok());
+    live.sync(model);
+    RenderStats st;
+    ASSERT_TRUE(live.render(image, live.dirtySpans(model, model.activeCount() - 1), &st));
+    dense += st.denseRays;
+    if (i % 6 == 5 || i == kBeads - 1) {
+      const std::string diff = againstFresh(model, camera, options, image);
+      ASSERT_TRUE(diff.empty()) << "bead " << i << ": " << diff;
+    }
+  }
+  EXPECT_GT(dense, 100u);
+  RenderStats full;
+  live.renderFull(image, &full);
+  EXPECT_GT(full.denseRays, 100u);
+}
+
 TEST(DirtyRegion, AStrokesSpansHoldWhatItChangesAndLessThanItsRectangle) {
   const GeneratedPiece piece = generatePiece(60, 21, PieceOptions{PieceShape::Plate, 60.0, 40.0, 0.4, Deformation::Sheet, 1.0});
   auto model = piece.makeModel();
