@@ -39,6 +39,9 @@ inline constexpr int kMinSizeStep = -2, kMaxSizeStep = 2;
 // Not thread-safe: the main loop owns it. Times are seconds on the app's clock.
 class Workbench {
  public:
+  // A blending punch's beads stacked on one spot at most (admit()).
+  static constexpr int kMaxBlendsOnASpot = 3;
+
   explicit Workbench(BenchSetup setup);
 
   // A fresh sheet for a new visitor: no operations, the tracer, middle size, the default metal, home view.
@@ -110,15 +113,11 @@ class Workbench {
   void commit(const std::vector<Operation>& ops);
   // Whether the sheet takes `op`: a blending punch's bead is left out where kMaxBlendsOnASpot set
   // operations already cover its centre. Each blend is an R-function union whose value around the
-  // spot moves towards zero as more are stacked there, and a ray near such a stack must then be
-  // searched point by point (hundreds of evaluations of dozens of operations each): a visitor going
-  // over the same place again and again with the punch would grind the kiosk to a halt.
+  // spot moves towards zero as more are stacked there, and every evaluation near the stack visits
+  // all of them: a visitor going over the same place again and again with the punch would make
+  // each frame there dearer without end (the renderer's dense rays bound the search, not this).
   bool admit(const Operation& op) const;
 
- public:
-  static constexpr int kMaxBlendsOnASpot = 3;
-
- private:
   void undoOps(size_t n);
   void setView(bool turned, double now);
   void refreshMapping();
