@@ -129,7 +129,7 @@ std::optional<std::vector<std::uint8_t>> loadTable(const std::string& name, std:
       h.version != kVersion)
     wrong = "not a table file of this version";
   else if (h.key != key)
-    wrong = nullptr;  // another build's or another metal's: replaced quietly
+    return std::nullopt;  // another build's: replaced quietly
   else if (h.size != size)
     wrong = "the wrong size";
   else {
@@ -143,7 +143,7 @@ std::optional<std::vector<std::uint8_t>> loadTable(const std::string& name, std:
       return bytes;
     }
   }
-  if (wrong) tell(c, "<4>tables: " + path.string() + " is broken (" + wrong + "); computing them again", false);
+  tell(c, "<4>tables: " + path.string() + " is broken (" + wrong + "); computing them again", false);
   return std::nullopt;
 }
 
