@@ -62,6 +62,7 @@ struct Row {
   double rendererMb = 0;
   long hits = 0;
   double candidates = 0, candidatesMax = 0;  // the grid's candidates at random points of the piece
+  long dirtyDiffer = -1;  // bytes where the picture the strokes' dirty updates left differs from a full frame
 };
 
 struct Setup {
@@ -225,6 +226,17 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
   double regionPx = 0;
   const int regions = std::max(3, s.strokes / 4);
   for (int i = 0; i < regions; ++i) stroke(randomRegion(rng, piece), region, regionPx, regionUndo);
+  // Bit-exact dirty updates: every stroke above was undone again, so the picture their dirty
+  // updates left must be the same bytes as a fresh full frame, on any instruction set (under
+  // qemu-user arm64 this is the check of the NEON lanes).
+  {
+    Image full;
+    r.renderFull(full);
+    row.dirtyDiffer = 0;
+    if (full.rgba.size() != image.rgba.size()) row.dirtyDiffer = static_cast<long>(std::max(full.rgba.size(), image.rgba.size()));
+    else
+      for (size_t i = 0; i < full.rgba.size(); ++i) row.dirtyDiffer += full.rgba[i] != image.rgba[i];
+  }
   row.regionMs = mean(region), row.regionWorstMs = worst(region), row.regionPixels = regionPx / regions;
   row.punchMs = mean(punch), row.punchWorstMs = worst(punch);
   row.segmentMs = mean(segment), row.segmentWorstMs = worst(segment);
@@ -265,8 +277,8 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
        " point evaluations, tapes pruned from " + std::to_string(b.fullTape) + " to " + fmt("%.0f", b.leafTape) +
        " nodes on average in the 8x8 cells, " + fmt("%.0f", 100.0 * b.inside) + "% inside). Target: a full frame <= 1.5x it. "
        "A frame of it runs before each full frame of a piece: \"/ baseline\" is the ratio of the two medians.\n\n";
-  t += "| piece | ops | build ms | full frame ms | baseline ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | region update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | renderer MB |\n";
-  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  t += "| piece | ops | build ms | full frame ms | baseline ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | region update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | renderer MB | dirty = full |\n";
+  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
     const double ratio = r.fieldWindowMs > 0 ? r.naiveWindowMs / r.fieldWindowMs : 0.0;
     t += "| " + r.piece + " | " + std::to_string(r.ops) + " | " + fmt("%.0f", r.buildMs) + " | " + fmt("%.1f", r.frameMs) +
@@ -276,7 +288,8 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
          " | " + fmt("%.2f", r.undoMs) + " | " + fmt("%.2f", r.opsPerEval) + " | " +
          fmt("%.1f", r.candidates) + " (" + fmt("%.0f", r.candidatesMax) + ") | " + fmt("%.1f", r.exactOpsPerEval) + " | " + fmt("%.2f", r.stepsPerRay) + " | " + fmt("%.2f", r.evalsPerRay) + " | " +
          r.window + ": " + fmt("%.0f", r.naiveWindowMs) + " ms vs " + fmt("%.1f", r.fieldWindowMs) + " ms | " +
-         fmt("%.0f", r.naiveFullEstimateMs) + " | " + fmt("%.0f", ratio) + "x | " + fmt("%.0f", r.rendererMb) + " |\n";
+         fmt("%.0f", r.naiveFullEstimateMs) + " | " + fmt("%.0f", ratio) + "x | " + fmt("%.0f", r.rendererMb) + " | " +
+         (r.dirtyDiffer == 0 ? std::string("yes") : r.dirtyDiffer < 0 ? std::string("-") : "NO: " + std::to_string(r.dirtyDiffer) + " bytes") + " |\n";
   }
   t += "\nbuild: the first sync (index and displacement field). full frame: wall time of renderFull(). CPU: process CPU time "
        "per frame; trace + shade: thread time summed over tiles. punch / segment update: add + sync + dirty spans (dirtySpans()) "
@@ -293,7 +306,9 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
        "lists at random points of the piece (what an exact evaluation through the index touches). ops/eval exact "
        "index: kernels per evaluation of the exact tracer through the grid over the window. naive: every operation at every point, timed over a window "
        "at the centre against the field tracer over the same window (ratio); the full-frame estimate scales the window "
-       "by the rays that hit the piece. renderer MB: what the renderer holds for the model (the displacement field, the index, the set operations' shift fields, an outline's specialised tapes).\n";
+       "by the rays that hit the piece. renderer MB: what the renderer holds for the model (the displacement field, the index, the set operations' shift fields, an outline's specialised tapes). dirty = full: "
+       "after the strokes and their undos, the picture their dirty updates left is the same bytes as a fresh full frame "
+       "(the bench exits 1 when it is not).\n";
   return t;
 }
 
@@ -369,6 +384,12 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
       return 1;
     }
   }
+  for (const Row& r : rows)
+    if (r.dirtyDiffer > 0) {
+      std::fprintf(stderr, "emboss bench: %s: the dirty updates left a picture other than a full frame (%ld bytes differ)\n",
+                   r.piece.c_str(), r.dirtyDiffer);
+      return 1;
+    }
   return 0;
 }
 

@@ -68,7 +68,9 @@ glm::dvec3 studioEnvironment(const glm::dvec3& d) {
     if (k <= l.cosEdge - l.soft) continue;
     double power = l.power;
     if (l.graduated) {
-      const double ramp = std::clamp((d.y - 0.05) / 0.6, 0.0, 1.0);
+      // Bright at the far side; straight up, over the sheet itself, still a third of that (the
+      // ramp's 0.4, squared), so a sheet seen straight down mirrors strips, not a dark ceiling.
+      const double ramp = std::max(std::clamp((d.y - 0.05) / 0.6, 0.0, 1.0), 0.6 * std::clamp((d.y + 0.4) / 0.6, 0.0, 1.0));
       power = 0.072 + l.power * ramp * ramp;
       // The strips: kStripDuty of every kStripPeriod (radians across), soft-edged.
       constexpr double kStripPeriod = 0.2, kStripDuty = 0.35, kStripSoft = 0.15, kGap = 0.024;

@@ -120,5 +120,45 @@ TEST(Shading, EdgesAreAntiAliasedAndOpenMetalIsNot) {
   EXPECT_GT(blended, 100);
 }
 
+// The studio's ceiling is graduated from dim at the visitor's side to bright at the far side; a
+// sheet seen straight down mirrors the ceiling straight up, which was its dim part: the shell read
+// as dark brown from above and as bright copper from the kiosk's camera. Straight up is now a third
+// as bright as the far side, and the face seen from above is not much darker than from the kiosk.
+TEST(Shading, ASheetSeenStraightDownIsNotADarkMirror) {
+  auto scene = loadScene(std::string(EMBOSS_SOURCE_DIR) + "/firmware-app/pieces/2-shell.json");
+  ASSERT_TRUE(scene) << scene.error();
+  auto model = scene->makeModel();
+  ASSERT_TRUE(model) << model.error();
+  ThreadPool pool(2);
+  // The mean grey of the middle of the face (the sheet fills it from both cameras).
+  auto faceGrey = [&](const CameraSpec& spec) {
+    Renderer r(pool);
+    r.setCamera(Camera(spec, 320, 200));
+    ShadingParams sp;
+    sp.metal = *metalByName(scene->metal);
+    sp.frontZ = model->workpiece().bounds().z1;
+    r.setShading(sp);
+    r.sync(*model);
+    Image img;
+    EXPECT_TRUE(r.renderFull(img));
+    double sum = 0;
+    int n = 0;
+    for (int y = 60; y < 140; ++y)
+      for (int x = 100; x < 220; ++x, ++n) {
+        const std::uint8_t* p = img.pixel(x, y);
+        sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+      }
+    return sum / n;
+  };
+  const CameraSpec kiosk = scene->camera;
+  CameraSpec above = kiosk;
+  const double distance = std::hypot(kiosk.eye.x - kiosk.target.x, kiosk.eye.y - kiosk.target.y, kiosk.eye.z - kiosk.target.z);
+  above.eye = {kiosk.target.x, kiosk.target.y, kiosk.target.z + distance};
+  const double fromKiosk = faceGrey(kiosk), fromAbove = faceGrey(above);
+  std::printf("face's mean grey: %.1f from the kiosk's camera, %.1f from straight above\n", fromKiosk, fromAbove);
+  EXPECT_GT(fromAbove, 0.7 * fromKiosk);
+  EXPECT_LT(fromAbove, fromKiosk);  // the far side's strips are still the brightest
+}
+
 }  // namespace
 }  // namespace emboss
