@@ -3,11 +3,15 @@
 # qemu-user (the GoogleTest label unit; the shell tests need binfmt and are left out), and makes
 # the arm64 .deb; prints its path.
 #   bash platform/debian/cross-arm64.sh [BUILD_DIR]     (default build-arm64 beside the sources)
+#   bash platform/debian/cross-arm64.sh --set-up        (only the set-up below; the test command runs
+#                                                        it for tests/arm64/neon.sh)
 # Set-up (once, with apt-get): the arm64 architecture for dpkg, crossbuild-essential-arm64,
 # qemu-user-static and the arm64 twins of the -dev packages the build links (multiarch, installed
 # beside the amd64 ones). EMBOSS_ARM64_TESTS=0 skips the tests.
 set -euo pipefail
 top="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+set_up_only=0
+[ "${1:-}" = --set-up ] && { set_up_only=1; shift; }
 build="${1:-$top/build-arm64}"
 case "$build" in /*) ;; *) build="$PWD/$build" ;; esac
 cd "$top"
@@ -36,6 +40,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get update -q >&2
   $sudo apt-get install -y -q --no-install-recommends "${missing[@]}" >&2
 fi
+[ $set_up_only = 1 ] && { log "set up: ${#wanted[@]} packages present"; exit 0; }
 
 # ---- build (as packaged: release-flags.cmake), with the tests
 launcher=()

@@ -4,6 +4,8 @@ set -euo pipefail
 top="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 cd "$top"
 bash platform/debian/install-deps.sh
+# The cross compiler, qemu-user and the arm64 libraries for the arm64 test (tests/arm64/neon.sh).
+bash platform/debian/cross-arm64.sh --set-up
 jobs="$(nproc)"
 
 # ccache (outside the checkout, ~/.cache/ccache) keyed by paths relative to the checkout: a rerun,

@@ -26,5 +26,7 @@ set(ENV{PKG_CONFIG_LIBDIR} "/usr/lib/${EMBOSS_TRIPLET}/pkgconfig:/usr/share/pkgc
 # and libraries are the multiarch ones the -dev packages installed, so no -L is needed.
 find_program(EMBOSS_QEMU_AARCH64 NAMES qemu-aarch64-static qemu-aarch64)
 if(EMBOSS_QEMU_AARCH64)
-  set(CMAKE_CROSSCOMPILING_EMULATOR ${EMBOSS_QEMU_AARCH64})
+  # As a Raspberry Pi 4's core: NEON and no SVE, so Highway picks the board's own lanes (qemu's
+  # default CPU has SVE2, which no Pi has).
+  set(CMAKE_CROSSCOMPILING_EMULATOR ${EMBOSS_QEMU_AARCH64} -cpu cortex-a72)
 endif()
