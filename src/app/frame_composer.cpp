@@ -283,7 +283,7 @@ void FrameComposer::preview(std::vector<Rect>& changed) {
   changed.push_back({0, 0, w_, h_});
 }
 
-void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone) {
+void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone, bool mayWait) {
   if (!model_ || !cameraSet_) return;
   const auto t0 = std::chrono::steady_clock::now();
   if (blankCopied_) {
@@ -297,6 +297,13 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     PixelSpans r = renderer_->continueField(fieldBandMs_);
     ++counters_.fieldBands;
     if (!r.empty()) urgent_.push_back(std::move(r));
+  }
+  // What may wait is traced only at the start of a period: its cost is not known beforehand (a
+  // rectangle's pixels cost ten times more where a set operation's tool must be traced again than
+  // where the last hits are shaded again), and traced late in a period it made the tick late.
+  if (mayWait && !urgent_.empty() && budgetMs - msSince(t0) < kWaitUnlessMs) {
+    ++counters_.dirtyWaits;
+    return;
   }
   const std::vector<PixelSpans> dirty = mergeSpans(std::move(urgent_));
   urgent_.clear();
@@ -341,7 +348,9 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     const double left = budgetMs - msSince(t0);
     if (left <= 0) break;
     // As many rows as fit in what is left of the budget, at their measured costs.
-    const int rows = std::clamp(bandRows(left), 4, h_);
+    // (A row costs more than when it was measured where the piece has grown since: when a tick
+    // waits, the band is sized for three quarters of what is left.)
+    const int rows = std::clamp(bandRows(mayWait ? 0.75 * left : left), 4, h_);
     const Rect band{0, nextBand_, w_, std::min(rows, h_ - nextBand_)};
     const double ms = renderRect(band, changed, false);
     const float perRow = static_cast<float>(ms / band.h);

@@ -49,8 +49,10 @@ class FrameComposer {
   // big punch close up) are traced coarse first, like a preview, and the call returns so that
   // they are presented at once; their exact pixels come in the next calls, before the bands.
   // `dirtyAlone`: a call that traced dirty rectangles returns after them (a visitor drawing:
-  // the stroke is presented before any refinement).
-  void work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone = false);
+  // the stroke is presented before any refinement). `mayWait` (attract mode, on a fixed grid of
+  // ticks): dirty rectangles wait for a call with at least kWaitUnlessMs of budget, the start of
+  // a period, so that they do not make the next tick late; bands are sized with a margin.
+  void work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone = false, bool mayWait = false);
   // The time dirty rectangles may take before the big ones are shown coarse first (6 ms).
   void setDirtyBudget(double ms) { dirtyMs_ = ms; }
   // Traces everything pending (for snapshots, saving and exit); with a limit, stops after about
@@ -62,6 +64,9 @@ class FrameComposer {
   // A raised region whose field takes longer than this to add rises a band of rows a turn, each
   // band's field work about this long (RenderOptions::fieldBandMs).
   static constexpr double kFieldBandMs = 3.0;
+  // Dirty rectangles that may wait (work()'s mayWait) are traced when this much is left of the
+  // budget: at the start of a 30 Hz period, not late in it.
+  static constexpr double kWaitUnlessMs = 20.0;
   // Another time (0: every region's field at once; for tests).
   void setFieldBandMs(double ms);
   // The preview's scale (pixels a sample each way), which follows the preview's time: set for
@@ -77,6 +82,7 @@ class FrameComposer {
   struct Counters {
     std::uint64_t dirtyRects = 0, dirtyPixels = 0, previews = 0, bands = 0, blankReuses = 0;
     std::uint64_t coarseRects = 0;  // dirty rectangles shown coarse first
+    std::uint64_t dirtyWaits = 0;   // calls whose dirty rectangles waited for the next (mayWait)
     std::uint64_t fieldBands = 0;   // bands of a big raised region added after its first
     std::uint64_t fieldRebuilds = 0;  // a model's height field built from scratch
     double lastPreviewMs = 0;

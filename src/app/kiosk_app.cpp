@@ -446,7 +446,9 @@ bool KioskApp::step() {
   const double budgetMs = animated  ? std::clamp((nextAnimation_ - clock_()) * 1000.0 - 2.0, 2.0, kBudgetMs)
                           : drawing ? kVisitorBudgetMs
                                     : kBudgetMs;
-  composer_->work(budgetMs, changed_, drawing);
+  // In attract mode nobody waits for a stroke: what would not be traced before the next tick
+  // waits for the turn after it.
+  composer_->work(budgetMs, changed_, drawing, m == KioskMode::Attract);
   const Steady::time_point tTrace = Steady::now();
   // Animated screens (attract mode, the countdown, the capture) are presented on a fixed 30 Hz
   // grid: timing each frame from the last present would add the loop's wake-up delay to every

@@ -230,6 +230,43 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
 }
 
+// Attract mode presents on a fixed grid of ticks: a stroke's dirty rectangles traced late in a
+// period made the next tick late (a rectangle's cost is not known beforehand), so with `mayWait`
+// they wait for a call with at least kWaitUnlessMs of budget, the start of a period.
+TEST(FrameComposer, InAttractModeAStrokeWaitsForTheStartOfAPeriod) {
+  ThreadPool pool(2);
+  FrameComposer fc(pool, kW, kH);
+  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  const CameraSpec home = benchCamera(m.workpiece().bounds(), kW, kH);
+  const ShadingParams sh = sheetOf("copper");
+  std::vector<Rect> changed;
+  fc.show(m, home, sh, {true, false, {}}, false);
+  fc.flush(changed);
+  ASSERT_TRUE(m.add(punch(0, 0)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  const Image before = fc.frame();
+  // Late in a period: nothing traced, the stroke still to come.
+  changed.clear();
+  fc.work(FrameComposer::kWaitUnlessMs - 5.0, changed, false, true);
+  EXPECT_TRUE(changed.empty());
+  EXPECT_EQ(fc.counters().dirtyWaits, 1u);
+  EXPECT_EQ(fc.frame().rgba, before.rgba);
+  EXPECT_TRUE(fc.pending());
+  // At the start of the next: traced, and the frame is a full render's.
+  fc.work(FrameComposer::kWaitUnlessMs + 10.0, changed, false, true);
+  EXPECT_FALSE(changed.empty());
+  EXPECT_EQ(fc.counters().dirtyWaits, 1u);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh).rgba);
+  // A visitor's stroke never waits, whatever is left of the budget.
+  ASSERT_TRUE(m.add(punch(8, 4)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  changed.clear();
+  fc.work(2.0, changed, true);
+  EXPECT_FALSE(changed.empty());
+  EXPECT_EQ(fc.counters().dirtyWaits, 1u);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh).rgba);
+}
+
 // A raised region over most of the sheet rises a band of rows a turn (its field work cut to
 // FrameComposer::kFieldBandMs a turn; here to eight rows): the first turn shows its first
 // rows, and the finished frame is a full render's. A punch made while it rises, and
