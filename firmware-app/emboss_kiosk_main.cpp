@@ -521,6 +521,13 @@ int main(int argc, char** argv) {
         pollfd pfd{pen ? pen->fd() : -1, POLLIN, 0};
         if (pfd.fd >= 0) ::poll(&pfd, 1, 5);
         else std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      } else if (const double idle = app.idleSeconds(); idle > 0.0) {
+        // Attract mode's next work waits for the next tick (a camera in motion: its next preview):
+        // the pen or the tick, whichever comes first (the loop turned thousands of times a second).
+        const int ms = std::min(5, static_cast<int>(idle * 1000.0));
+        pollfd pfd{pen ? pen->fd() : -1, POLLIN, 0};
+        if (pfd.fd >= 0) ::poll(&pfd, 1, ms);
+        else std::this_thread::sleep_for(std::chrono::milliseconds(ms));
       }
     }
     if (gStop) logLine("stopping (signal)");

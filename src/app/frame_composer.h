@@ -53,6 +53,9 @@ class FrameComposer {
   // ticks): dirty rectangles wait for a call with at least kWaitUnlessMs of budget, the start of
   // a period, so that they do not make the next tick late; bands are sized with a margin.
   void work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone = false, bool mayWait = false);
+  // The last work() left its work for the start of the next period (mayWait): nothing to do
+  // until then.
+  bool waiting() const { return waiting_; }
   // The time dirty rectangles may take before the big ones are shown coarse first (6 ms).
   void setDirtyBudget(double ms) { dirtyMs_ = ms; }
   // Traces everything pending (for snapshots, saving and exit); with a limit, stops after about
@@ -114,7 +117,8 @@ class FrameComposer {
   struct Slot {
     std::unique_ptr<Renderer> renderer;
     const Model* model = nullptr;
-    std::string shadingKey, cameraKey;
+    std::string shadingKey;
+    std::optional<CameraSpec> camera;  // the camera its renderer was last given
     std::uint64_t lastUse = 0;
   };
   Slot& slotFor(const Model& model);
@@ -126,6 +130,8 @@ class FrameComposer {
   Renderer* renderer_ = nullptr;
   int w_, h_;
   Image frame_, low_;
+  std::vector<std::uint16_t> across_;  // enlarge()'s low rows enlarged across
+  bool waiting_ = false;
   const Model* model_ = nullptr;
   std::uint64_t revision_ = ~0ull;
   CameraSpec camera_;

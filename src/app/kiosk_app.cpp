@@ -133,6 +133,13 @@ bool KioskApp::busy() const {
          (fast_ && pen_ && !pen_->finished());
 }
 
+double KioskApp::idleSeconds() const {
+  // Attract mode: a camera in motion keeps busy() true, but once its preview is traced (or while
+  // the work waits for the next period) the next thing to do is the tick's present.
+  if (states_.mode() != KioskMode::Attract || !queue_.empty() || (composer_->pending() && !composer_->waiting())) return 0.0;
+  return std::max(0.0, nextAnimation_ - clock_());
+}
+
 bool KioskApp::feedDone() const { return fast_ && (!pen_ || pen_->finished()) && queue_.empty(); }
 
 void KioskApp::startAttract(double now, size_t index, double done) {

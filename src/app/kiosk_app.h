@@ -81,6 +81,9 @@ class KioskApp {
   bool step();
   // True while there is work that should not wait (pending tracing, queued pen samples, a turn).
   bool busy() const;
+  // While busy(): how long the loop may sleep now (attract mode with nothing to trace before
+  // its next 30 Hz tick, or its work waiting for the start of the next period), else 0.
+  double idleSeconds() const;
   // The pen stopped answering (unplugged); main() may look for another and call setPen().
   bool penLost() const { return penLost_; }
   // A recording fed with fast has been played to its end and every sample taken.

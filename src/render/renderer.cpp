@@ -247,6 +247,13 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   // again instead of tracing.
   HitCache& cache = hitCaches_[0];
   double* const kept = field && cache.t.size() == static_cast<size_t>(w) * h ? cache.t.data() : nullptr;
+  if (kept && cache.blank) {
+    cache.blank = false;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    pool_.parallelFor2D(Rect{0, 0, 1, h}, 64, [&](const Rect& band) {
+      std::fill(kept + static_cast<size_t>(band.y) * w, kept + static_cast<size_t>(band.y + band.h) * w, nan);
+    });
+  }
   const bool traced = pass(ringSpans, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     const size_t i = at(x, y);
     double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;

@@ -159,6 +159,9 @@ class Renderer {
   struct HitCache {
     std::optional<Camera> camera;
     std::vector<double> t;
+    // Set by setCamera() for a new camera: `t` is to be all NaN, filled by the next render() (a
+    // camera in motion is set several times a frame, and each fill was 8 MB at 1280x800).
+    bool blank = false;
   };
   HitCache hitCaches_[2];  // [0]: the current camera's
   // Forgets the kept hits a sync() may have moved: `followed` whether the model was the one

@@ -52,7 +52,7 @@ void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& 
     return;
   }
   for (HitCache& cache : hitCaches_)
-    if (cache.camera) std::fill(cache.t.begin(), cache.t.end(), std::numeric_limits<double>::quiet_NaN());
+    if (cache.camera) cache.blank = true;
 }
 
 void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
@@ -60,7 +60,7 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
   for (const FieldChange& c : changes) peaks += c.peak;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (HitCache& cache : hitCaches_) {
-    if (!cache.camera) continue;
+    if (!cache.camera || cache.blank) continue;
     // What a change of D can move: the hit's sign changes, the values in its cell and its normal
     // (the field's stencil, two samples round the samples changed), the box dirtySpansOfRays()
     // projects without the shading's reach; the sheet before and after within `peaks` of now.
@@ -402,7 +402,8 @@ void Renderer::setCamera(const Camera& camera) {
     std::swap(hitCaches_[0], hitCaches_[1]);
     if (!(hitCaches_[0].camera && sameCamera(*hitCaches_[0].camera, camera))) {
       hitCaches_[0].camera = camera;
-      hitCaches_[0].t.assign(static_cast<size_t>(camera.width()) * camera.height(), std::numeric_limits<double>::quiet_NaN());
+      hitCaches_[0].t.resize(static_cast<size_t>(camera.width()) * camera.height());
+      hitCaches_[0].blank = true;
     }
   }
   if (sameSize && !backdrop_.empty()) return;
