@@ -606,8 +606,24 @@ PreparedOp::SupportPieces PreparedOp::supportPieces() const {
 
 double PreparedOp::patinaAt(double x, double y) const {
   if (op_.kind != OpKind::Patina || !support_.contains(x, y)) return 0.0;
-  const double d2 = polylineDistance2(x, y, op_.points, false);
-  const double u = d2 / (op_.a * op_.a);
+  // The distance to the stroke matters only within its reach a: a segment whose box grown by a
+  // does not hold the point is farther than that and is passed (four comparisons instead of its
+  // distance; a shaded point of a long stroke met every segment). The nearest segment within reach
+  // is the polyline's nearest, so the value is polylineDistance2's to the bit.
+  const std::vector<Vec2>& p = op_.points;
+  const double a = op_.a, reach2 = a * a;
+  double d2 = reach2;
+  if (p.size() == 1) {
+    d2 = sqr(x - p[0].x) + sqr(y - p[0].y);
+  } else {
+    for (size_t i = 1; i < p.size(); ++i) {
+      const Vec2 &s = p[i - 1], &e = p[i];
+      if (x < std::min(s.x, e.x) - a || x > std::max(s.x, e.x) + a || y < std::min(s.y, e.y) - a || y > std::max(s.y, e.y) + a)
+        continue;
+      d2 = std::min(d2, kernels::segmentDistance2(x, y, s.x, s.y, e.x, e.y));
+    }
+  }
+  const double u = d2 / reach2;
   if (u >= 1.0) return 0.0;
   return op_.strength * (1.0 - u * u) * (1.0 - u * u);
 }

@@ -1,8 +1,11 @@
 // The patina brush: the scene format, a stroke of the kiosk's brush, a colour that moves nothing,
 // settles into the hollows, goes with an undo, and reaches the POV-Ray export.
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <random>
 #include <span>
 
@@ -81,6 +84,45 @@ TEST(Patina, ColoursAndMovesNothing) {
   EXPECT_GT(op.patinaAt(0, 3.5), 0.0);
   EXPECT_LT(op.patinaAt(0, 3.5), 0.5);
   EXPECT_EQ(op.patinaAt(0, 4.01), 0.0);
+}
+
+// A long stroke: patinaAt() passes the segments whose box grown by the brush's radius does not
+// hold the point. Its value must be the brush's profile over the distance to the whole polyline,
+// computed here segment by segment in arithmetic of its own (so to 1e-12; the attract pieces'
+// pictures were the same bytes before and after the change).
+TEST(Patina, ALongStrokeIsTheProfileOfTheDistanceToAllItsSegments) {
+  Operation op;
+  op.kind = OpKind::Patina;
+  op.a = 2.5;
+  op.strength = 0.8;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> step(-1.5, 1.5);
+  Vec2 at{0.0, 0.0};
+  for (int i = 0; i < 300; ++i) {  // a wandering stroke that crosses itself
+    op.points.push_back(at);
+    at.x += step(rng) + 0.4 * std::cos(i * 0.05), at.y += step(rng) + 0.4 * std::sin(i * 0.05);
+  }
+  const PreparedOp prepared(op);
+  const Box2 box = prepared.support();
+  std::uniform_real_distribution<double> px(box.x0, box.x1), py(box.y0, box.y1);
+  int inside = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double x = px(rng), y = py(rng);
+    double d2 = std::numeric_limits<double>::infinity();
+    for (size_t i = 1; i < op.points.size(); ++i) {
+      const Vec2 &s = op.points[i - 1], &e = op.points[i];
+      const double dx = e.x - s.x, dy = e.y - s.y, len2 = dx * dx + dy * dy;
+      const double t = len2 > 0 ? std::clamp(((x - s.x) * dx + (y - s.y) * dy) / len2, 0.0, 1.0) : 0.0;
+      d2 = std::min(d2, (x - s.x - t * dx) * (x - s.x - t * dx) + (y - s.y - t * dy) * (y - s.y - t * dy));
+    }
+    const double u = d2 / (op.a * op.a);
+    const double want = u >= 1.0 ? 0.0 : op.strength * (1.0 - u * u) * (1.0 - u * u);
+    const double got = prepared.patinaAt(x, y);
+    ASSERT_NEAR(got, want, 1e-12) << "at " << x << ", " << y;
+    inside += got > 0.0;
+  }
+  EXPECT_GT(inside, 2000);   // the stroke covers a good part of its box, and not all of it
+  EXPECT_LT(inside, 19000);
 }
 
 TEST(Patina, SettlesIntoTheHollows) {
