@@ -516,15 +516,10 @@ int main(int argc, char** argv) {
           logLine("display: back: " + screen->name());
         }
       }
-      if (!app.busy()) {
-        // Nothing to trace: wait for the pen (where it has a descriptor) or 5 ms.
-        pollfd pfd{pen ? pen->fd() : -1, POLLIN, 0};
-        if (pfd.fd >= 0) ::poll(&pfd, 1, 5);
-        else std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      } else if (const double idle = app.idleSeconds(); idle > 0.0) {
-        // Attract mode's next work waits for the next tick (a camera in motion: its next preview):
-        // the pen or the tick, whichever comes first (the loop turned thousands of times a second).
-        const int ms = std::min(5, static_cast<int>(idle * 1000.0));
+      // Nothing to trace, or attract mode's next work waits for the next tick (a camera in motion:
+      // its next preview; the loop turned thousands of times a second): wait for the pen (where it
+      // has a descriptor), at most 5 ms.
+      if (const int ms = app.busy() ? std::min(5, static_cast<int>(app.idleSeconds() * 1000.0)) : 5; ms > 0) {
         pollfd pfd{pen ? pen->fd() : -1, POLLIN, 0};
         if (pfd.fd >= 0) ::poll(&pfd, 1, ms);
         else std::this_thread::sleep_for(std::chrono::milliseconds(ms));

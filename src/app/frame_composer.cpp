@@ -304,16 +304,18 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
   waiting_ = false;
   if (!model_ || !cameraSet_) return;
   const auto t0 = std::chrono::steady_clock::now();
+  // With mayWait, work whose cost is not known beforehand starts only with a period: traced late
+  // in one it made the tick late. True when the call is to stop and wait.
+  const auto waitForThePeriod = [&] {
+    waiting_ = mayWait && budgetMs - msSince(t0) < kWaitUnlessMs;
+    return waiting_;
+  };
   if (blankCopied_) {
     blankCopied_ = false;
     changed.push_back({0, 0, w_, h_});
   }
   if (needPreview_) {
-    // (A preview is a whole period's work: when a tick waits, it too starts with the period.)
-    if (mayWait && budgetMs - msSince(t0) < kWaitUnlessMs) {
-      waiting_ = true;
-      return;
-    }
+    if (waitForThePeriod()) return;  // (a preview is a whole period's work)
     preview(changed);
   }
   if (renderer_->fieldPending() && urgent_.empty()) {
@@ -323,12 +325,10 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     ++counters_.fieldBands;
     if (!r.empty()) urgent_.push_back(std::move(r));
   }
-  // What may wait is traced only at the start of a period: its cost is not known beforehand (a
-  // rectangle's pixels cost ten times more where a set operation's tool must be traced again than
-  // where the last hits are shaded again), and traced late in a period it made the tick late.
-  if (mayWait && !urgent_.empty() && budgetMs - msSince(t0) < kWaitUnlessMs) {
+  // (A dirty rectangle's pixels cost ten times more where a set operation's tool must be traced
+  // again than where the last hits are shaded again.)
+  if (!urgent_.empty() && waitForThePeriod()) {
     ++counters_.dirtyWaits;
-    waiting_ = true;
     return;
   }
   const std::vector<PixelSpans> dirty = mergeSpans(std::move(urgent_));

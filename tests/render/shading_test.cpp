@@ -88,22 +88,28 @@ TEST(Shading, CavityIsFoundInGroovesAndNotOnOpenMetal) {
   EXPECT_GT(cavityAt(0.0, 0.0, deep), cavityAt(0.0, 0.0, groove));
 }
 
+// A full frame of 320 x 200 of the piece through `camera`, in the scene's metal.
+bool renderAt320x200(ThreadPool& pool, const Scene& scene, const Model& model, const CameraSpec& camera, Image& img,
+                     RenderStats* st = nullptr) {
+  Renderer r(pool);
+  r.setCamera(Camera(camera, 320, 200));
+  ShadingParams sp;
+  sp.metal = *metalByName(scene.metal);
+  sp.frontZ = model.workpiece().bounds().z1;
+  r.setShading(sp);
+  r.sync(model);
+  return r.renderFull(img, st);
+}
+
 TEST(Shading, EdgesAreAntiAliasedAndOpenMetalIsNot) {
   auto scene = loadScene(std::string(EMBOSS_SOURCE_DIR) + "/firmware-app/pieces/2-shell.json");
   ASSERT_TRUE(scene) << scene.error();
   auto model = scene->makeModel();
   ASSERT_TRUE(model) << model.error();
   ThreadPool pool(2);
-  Renderer r(pool);
-  r.setCamera(Camera(scene->camera, 320, 200));
-  ShadingParams sp;
-  sp.metal = *metalByName(scene->metal);
-  sp.frontZ = model->workpiece().bounds().z1;
-  r.setShading(sp);
-  r.sync(*model);
   Image img;
   RenderStats st;
-  ASSERT_TRUE(r.renderFull(img, &st));
+  ASSERT_TRUE(renderAt320x200(pool, *scene, *model, scene->camera, img, &st));
   const long pixels = 320L * 200;
   // The sheet's outline and its grooves take extra rays; the rest of the frame does not.
   EXPECT_GT(st.edgePixels, 300u);
@@ -132,15 +138,8 @@ TEST(Shading, ASheetSeenStraightDownIsNotADarkMirror) {
   ThreadPool pool(2);
   // The mean grey of the middle of the face (the sheet fills it from both cameras).
   auto faceGrey = [&](const CameraSpec& spec) {
-    Renderer r(pool);
-    r.setCamera(Camera(spec, 320, 200));
-    ShadingParams sp;
-    sp.metal = *metalByName(scene->metal);
-    sp.frontZ = model->workpiece().bounds().z1;
-    r.setShading(sp);
-    r.sync(*model);
     Image img;
-    EXPECT_TRUE(r.renderFull(img));
+    EXPECT_TRUE(renderAt320x200(pool, *scene, *model, spec, img));
     double sum = 0;
     int n = 0;
     for (int y = 60; y < 140; ++y)
