@@ -71,7 +71,7 @@ struct RenderOptions {
 //
 // The field tracer (sheet model; the default): f(P) = W(x, y, z - D(x, y)) with D from the
 // HeightField cache, the set operations applied exactly on top (their shifts cached the same
-// way). The points of a ray are t = q h / 64 for integers q, fixed by the camera and the
+// way). The points of a ray are t = q h / 16 for integers q, fixed by the camera and the
 // workpiece; the hit is the first of them with f >= 0, refined inside [q - 1, q]. Bounds only
 // prove stretches empty, never decide: a Lipschitz walk (plate, disc, bowl, and 2D vm outlines
 // through their column map) with D's slopes from the field's pyramid, interval bounds where set

@@ -201,7 +201,7 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   double t0, t1;
   if (!clipRay(ray, fieldClip_, t0, t1)) return std::nullopt;
   const double h = step_, h8 = h / kSubdivisions;
-  // Points of the ray are t = q h / 64 for integers q: the same points whatever the clip.
+  // Points of the ray are t = q h / kSubdivisions for integers q: the same points whatever the clip.
   const long q0 = kSubdivisions * static_cast<long>(std::floor(t0 / h));
   const long q1 = kSubdivisions * static_cast<long>(std::ceil(t1 / h));
   auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };
@@ -333,7 +333,7 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     ++st.steps;
     // A dense ray's window is sampled: a cell whose end is outside is passed, and one whose end is
     // inside is bisected to a crossing (no interval tests, which fail near such a tangle and
-    // would send the search down to every sixty-fourth of the cell).
+    // would send the search down to every sixteenth of the cell).
     if (b.f < 0.0 && !checked && ((rc.dense && rc.inWindow(qa, qb)) || empty(qa, a, qb, b))) return false;
     if (qb - qa == 1) {
       if (b.f < 0.0) return false;
@@ -460,9 +460,9 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     q = qn, fa = fb;
   }
   if (bracketed) {
-    // The secant inside [bq - 1, bq]: a function of f at those two points alone. That sixty-fourth
-    // of a cell is a few micrometres: a regula falsi step inside it changed three pixels in a
-    // million, for an evaluation a hit.
+    // The secant inside [bq - 1, bq]: a function of f at those two points alone. That sixteenth
+    // of a cell is at most 16 micrometres, a fifth of a pixel of the bench's closest view: a regula falsi
+    // step inside a sixty-fourth changed three pixels in a million, for an evaluation a hit.
     const double a = static_cast<double>(bq - 1) * h8, b = static_cast<double>(bq) * h8;
     tHit = std::clamp(b - bfb * (b - a) / (bfb - bfa), a, b);
   }

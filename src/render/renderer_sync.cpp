@@ -20,7 +20,7 @@ void Renderer::sync(const Model& model) {
   grid_.sync(model);
   bounds_ = model.bounds();
   // The step: a quarter of the sheet's thickness, at most 0.25 mm: a sheet can never slip between
-  // two samples, and the thin-feature splits go down to h / 64. Depends on the workpiece only.
+  // two samples, and the thin-feature splits go down to h / 16. Depends on the workpiece only.
   step_ = std::min(0.25, 0.5 * model.workpiece().halfThickness());
   all_.resize(model.activeCount());
   std::iota(all_.begin(), all_.end(), 0u);
