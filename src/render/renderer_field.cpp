@@ -461,8 +461,9 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   }
   if (bracketed) {
     // The secant inside [bq - 1, bq]: a function of f at those two points alone. That sixteenth
-    // of a cell is at most 16 micrometres, a fifth of a pixel of the bench's closest view: a regula falsi
-    // step inside a sixty-fourth changed three pixels in a million, for an evaluation a hit.
+    // of a cell is at most 16 micrometres, a fifth of a pixel of the bench's closest view (a
+    // regula falsi step inside a sixty-fourth changed three pixels in a million, for an
+    // evaluation a hit).
     const double a = static_cast<double>(bq - 1) * h8, b = static_cast<double>(bq) * h8;
     tHit = std::clamp(b - bfb * (b - a) / (bfb - bfa), a, b);
   }
