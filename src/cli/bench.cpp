@@ -11,6 +11,7 @@
 
 #include "app/view_orbit.h"
 #include "bench/baseline_2d.h"
+#include "bench/host_cpu.h"
 #include "bench/piece_generator.h"
 #include "cli/bench_kiosk.h"
 #include "frep/path_rows.h"
@@ -266,11 +267,12 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
   return row;
 }
 
-std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const Baseline& b) {
+std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const Baseline& b, const std::string& host) {
   std::string t;
   t += "Machine: " + std::to_string(cores) + " cores reported, " + std::to_string(s.threads) + " render threads; " +
        std::to_string(s.width) + "x" + std::to_string(s.height) + " pixels; medians of " + std::to_string(s.frames) +
        " full frames; means of " + std::to_string(s.strokes) + " strokes of each kind.\n";
+  if (!host.empty()) t += "Host, while the baseline and the pieces ran: " + host + ".\n";
   t += "Baseline (same run, same threads): a plain interval-pruning 2D renderer (bench/baseline_2d.h) of a generated " +
        std::to_string(b.clauses) + "-clause vm model at " + std::to_string(b.size) + "x" + std::to_string(b.size) + ": " +
        fmt("%.1f", b.ms) + " ms (median; " + std::to_string(b.intervalEvals) + " interval and " + std::to_string(b.pointEvals) +
@@ -319,6 +321,7 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
   auto wanted = [&](const std::string& name) { return only.empty() || name.find(only) != std::string::npos; };
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   ThreadPool pool(threads);
+  const std::optional<HostCpuTimes> hostBefore = readHostCpuTimes();
   Setup s{quick ? 320 : 1280, quick ? 200 : 800, pool.size(), quick ? 2 : 5, quick ? 3 : 20, quick};
   std::fprintf(stderr, "emboss bench: baseline, plain interval-pruning 2D renderer...\n");
   const Baseline baseline = measureBaseline(pool, quick);
@@ -365,7 +368,7 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
     }
     rows.push_back(measure("vm " + std::to_string(clauses) + " clauses", *piece, s, pool, quick ? 8 : 16, baseline));
   }
-  std::string text = table(rows, s, cores, baseline);
+  std::string text = table(rows, s, cores, baseline, stealSentence(hostBefore, readHostCpuTimes()));
   if (!kioskRecording.empty()) {
     std::string error;
     const std::string kiosk = kioskBench({kioskRecording, kioskLoops, threads, quick}, error);

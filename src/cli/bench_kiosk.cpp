@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/host_cpu.h"
 #include "input/evemu.h"
 
 extern char** environ;
@@ -235,6 +236,7 @@ std::string kioskBench(const KioskBenchOptions& o, std::string& error) {
   std::fprintf(stderr, "emboss bench: kiosk: %s played %d times (%.1f s each), then %.0f s idle...\n",
                fs::path(o.recording).filename().c_str(), loops, span, idleWindow);
   const auto t0 = Clock::now();
+  const std::optional<HostCpuTimes> hostBefore = readHostCpuTimes();
   Child c = start({kiosk, "--config", (dir / "kiosk.conf").string(), "--display=headless", "--tablet=evemu:" + recording.string(),
                    threads, "--run-for=" + fmt("%.1f", runFor), "--stats"},
                   dir / "kiosk.log", dir / "state");
@@ -304,6 +306,8 @@ std::string kioskBench(const KioskBenchOptions& o, std::string& error) {
        met(idlePercent >= 0 && idlePercent <= 2.0) + " |\n";
   t += "| attract mode | " + fmt("%.1f", pace) + " fps from its first frame on (" + std::to_string(frames) + " frames in " +
        fmt("%.1f", seconds) + " s) | >= 30 fps | " + met(pace >= 30.0) + " |\n";
+  if (const std::string host = stealSentence(hostBefore, readHostCpuTimes()); !host.empty())
+    t += "\nHost, while the kiosk ran: " + host + ".\n";
   return t;
 }
 

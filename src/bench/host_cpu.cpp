@@ -1,0 +1,49 @@
+// How busy the host was while a benchmark ran (see host_cpu.h).
+#include "bench/host_cpu.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace emboss {
+
+std::optional<HostCpuTimes> parseHostCpuTimes(const std::string& procStat) {
+  // "cpu  user nice system idle iowait irq softirq steal guest guest_nice" (proc(5)); guest time
+  // is already counted in user.
+  std::istringstream in(procStat);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("cpu ", 0) != 0) continue;
+    std::istringstream f(line.substr(4));
+    std::uint64_t v[8] = {};
+    for (auto& x : v)
+      if (!(f >> x)) return std::nullopt;
+    return HostCpuTimes{v[7], v[0] + v[1] + v[2] + v[5] + v[6]};
+  }
+  return std::nullopt;
+}
+
+std::optional<HostCpuTimes> readHostCpuTimes() {
+  std::ifstream f("/proc/stat");
+  if (!f) return std::nullopt;
+  std::stringstream text;
+  text << f.rdbuf();
+  return parseHostCpuTimes(text.str());
+}
+
+std::string stealSentence(const std::optional<HostCpuTimes>& before, const std::optional<HostCpuTimes>& after) {
+  if (!before || !after || after->steal < before->steal || after->busy < before->busy) return {};
+  const double steal = static_cast<double>(after->steal - before->steal);
+  const double busy = static_cast<double>(after->busy - before->busy);
+  const double ticks = static_cast<double>(sysconf(_SC_CLK_TCK) > 0 ? sysconf(_SC_CLK_TCK) : 100);
+  char b[240];
+  std::snprintf(b, sizeof b,
+                "steal %.1f %% of its CPU time (%.1f s: the host's other guests held the cores; wall times are longer by "
+                "about that share)",
+                steal + busy > 0 ? 100.0 * steal / (steal + busy) : 0.0, steal / ticks);
+  return b;
+}
+
+}  // namespace emboss
