@@ -22,8 +22,9 @@ std::optional<HostCpuTimes> readHostCpuTimes();
 
 // A sentence on the host between two readings, for a benchmark's table: the steal time as a share
 // of the time this machine worked or waited for a core, e.g. "steal 8.4 % of its CPU time (1.3 s:
-// the host's other guests held the cores; wall times are longer by about that share)". Empty when
-// either reading is missing.
+// the host's other guests held the cores; wall times are longer by about that share)". When no
+// steal has been counted since the machine booted, it says so: a hypervisor that does not report
+// steal time reads as a quiet host. Empty when either reading is missing.
 std::string stealSentence(const std::optional<HostCpuTimes>& before, const std::optional<HostCpuTimes>& after);
 
 }  // namespace emboss

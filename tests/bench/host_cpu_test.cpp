@@ -32,6 +32,16 @@ TEST(HostCpu, TheSentenceGivesStealAsAShareOfTheTimeTheMachineWanted) {
   EXPECT_TRUE(stealSentence(after, before).empty());  // counters that went back: no figure
 }
 
+TEST(HostCpu, NoStealSinceBootIsSaidAsSuch) {
+  // A hypervisor that never reports steal reads as a quiet host: the sentence says it cannot tell.
+  const HostCpuTimes before{0, 1000}, after{0, 5000};
+  const std::string s = stealSentence(before, after);
+  EXPECT_EQ(s.substr(0, 30), "steal 0.0 % of its CPU time (n");
+  EXPECT_NE(s.find("none counted since this machine booted"), std::string::npos) << s;
+  // Steal counted before the run but none during it: a quiet host, said plainly.
+  EXPECT_EQ(stealSentence(HostCpuTimes{7, 1000}, HostCpuTimes{7, 5000}).find("booted"), std::string::npos);
+}
+
 TEST(HostCpu, ThisMachinesCountersOnlyGrow) {
   const auto a = readHostCpuTimes();
   if (!a) GTEST_SKIP() << "no /proc/stat here";
