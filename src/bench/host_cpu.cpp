@@ -38,21 +38,19 @@ std::string stealSentence(const std::optional<HostCpuTimes>& before, const std::
   const double steal = static_cast<double>(after->steal - before->steal);
   const double busy = static_cast<double>(after->busy - before->busy);
   const double ticks = static_cast<double>(sysconf(_SC_CLK_TCK) > 0 ? sysconf(_SC_CLK_TCK) : 100);
-  const double share = steal + busy > 0 ? 100.0 * steal / (steal + busy) : 0.0;
-  char b[320];
-  if (after->steal == 0) {
+  char detail[160];
+  if (after->steal == 0)
     // Not a tick since the machine booted: a quiet host, or a hypervisor that does not report
     // steal time (some do not), which would then not show a busy host either.
-    std::snprintf(b, sizeof b,
-                  "steal %.1f %% of its CPU time (none counted since this machine booted: a quiet host, or one that "
-                  "does not report steal time, so a busy host would not show here)",
-                  share);
-    return b;
-  }
-  std::snprintf(b, sizeof b,
-                "steal %.1f %% of its CPU time (%.1f s: the host's other guests held the cores; wall times are longer by "
-                "about that share)",
-                share, steal / ticks);
+    std::snprintf(detail, sizeof detail,
+                  "none counted since this machine booted: a quiet host, or one that does not report steal time, so a "
+                  "busy host would not show here");
+  else
+    std::snprintf(detail, sizeof detail,
+                  "%.1f s: the host's other guests held the cores; wall times are longer by about that share", steal / ticks);
+  char b[240];
+  std::snprintf(b, sizeof b, "steal %.1f %% of its CPU time (%s)", steal + busy > 0 ? 100.0 * steal / (steal + busy) : 0.0,
+                detail);
   return b;
 }
 
