@@ -1,0 +1,87 @@
+// combineBound: a set operation's range over a box holds every value combine() takes in it, and it
+// stays tight where set operations pile up (a bound that grew with |f| failed every interval test
+// of a ray through a pile of flat punches, far above the sheet).
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "render/set_op_bounds.h"
+
+namespace emboss {
+namespace {
+
+Operation blend(OpKind kind, ToolShape::Type type, const Vec3& c) {
+  Operation o;
+  o.kind = kind;
+  o.tool.type = type;
+  o.tool.center = c;
+  o.tool.r = 1.5;
+  o.tool.end = {c.x + 2.0, c.y - 1.0, c.z + 0.5};
+  o.tool.half = {3.0, 2.1, 1.0};
+  o.a1 = 0.3, o.a2 = 1.2, o.a3 = 1.2;
+  return o;
+}
+
+// The operations a test draws from: each kind on each tool shape, near the origin.
+std::vector<PreparedOp> someOperations() {
+  std::vector<PreparedOp> ops;
+  for (OpKind k : {OpKind::BlendUnion, OpKind::BlendSubtract, OpKind::Subtract})
+    for (ToolShape::Type t : {ToolShape::Type::Sphere, ToolShape::Type::Cylinder, ToolShape::Type::Flat})
+      ops.emplace_back(blend(k, t, {0.3, -0.2, 0.1}));
+  return ops;
+}
+
+TEST(SetOpBounds, HoldEveryValueInTheBox) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const std::vector<PreparedOp> ops = someOperations();
+  int checked = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const PreparedOp& op = ops[static_cast<size_t>(trial) % ops.size()];
+    // A box somewhere from inside the tool to well beyond its taper, of any size up to 2 mm.
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = -8.0 + 16.0 * u(rng);
+      hi[k] = lo[k] + 2.0 * u(rng) * u(rng);
+    }
+    // f's range: anything from far outside (a pile's f runs to hundreds) to inside.
+    const double fa = -300.0 * u(rng) * u(rng) * u(rng) + 2.0 * u(rng), fb = fa + 20.0 * u(rng) * u(rng);
+    const Interval f(fa, fb);
+    const Interval b = combineBound(op, f, P3<Interval>{Interval(lo[0], hi[0]), Interval(lo[1], hi[1]), Interval(lo[2], hi[2])});
+    for (int s = 0; s < 40; ++s) {
+      const P3<double> p{lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng), lo[2] + (hi[2] - lo[2]) * u(rng)};
+      // The corners of f's range too: the bounds are taken there.
+      const double fv = s == 0 ? fa : s == 1 ? fb : fa + (fb - fa) * u(rng);
+      const double v = op.combine(fv, p);
+      ASSERT_GE(v, b.lo) << "trial " << trial << " f " << fv;
+      ASSERT_LE(v, b.hi) << "trial " << trial << " f " << fv;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 3000 * 40);
+}
+
+// Twelve flat punches on a spot, then a bead: far above them f is about -6 (the sheet) and each
+// subtraction about doubles how negative f gets; the bound's upper end must stay below zero there.
+TEST(SetOpBounds, StayBelowZeroAboveAPile) {
+  std::vector<PreparedOp> pile;
+  for (int i = 0; i < 12; ++i)
+    pile.emplace_back(blend(OpKind::BlendSubtract, ToolShape::Type::Flat, {0.2 * i, -0.1 * i, 0.0}));
+  pile.emplace_back(blend(OpKind::BlendUnion, ToolShape::Type::Sphere, {1.0, 0.0, -1.0}));
+  // A cell of a ray 5 mm above the tools' tops, and f there.
+  const P3<Interval> box{Interval(0.9, 1.0), Interval(-0.3, -0.2), Interval(6.0, 6.3)};
+  Interval f(-6.3, -5.9);
+  double exact = -6.0;
+  for (const PreparedOp& op : pile) {
+    f = combineBound(op, f, box);
+    exact = op.combine(exact, P3<double>{0.95, -0.25, 6.1});
+  }
+  EXPECT_LE(f.lo, exact);
+  EXPECT_GE(f.hi, exact);
+  EXPECT_LT(f.lo, -1000.0);  // the pile does drive f's lower end far down...
+  EXPECT_LT(f.hi, -5.0);     // ...but not its upper end: the cell is proven outside
+}
+
+}  // namespace
+}  // namespace emboss
