@@ -151,17 +151,39 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     else
       v = workpieceValue(P3<Interval>{box.x, box.y, box.z - d});
   }
-  for (int k = 0; k < nSet; ++k) {
-    const SetOp& s = *rc.setOps[k];
-    if (!s.support.overlaps(xy) || box.z.hi < s.zlo || box.z.lo > s.zhi) continue;
+  // Only f's upper end decides. First with the subtractions' tools anywhere (no shapes, no
+  // shifts: a subtraction raises f by its bump at most), which proves most cells well clear of a
+  // pile of them; then with every tool where it is.
+  const auto acts = [&](const SetOp& s) { return s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi; };
+  const auto withTool = [&](const SetOp& s, double hi) {
     const Box2 in{std::max(xy.x0, s.support.x0), std::max(xy.y0, s.support.y0), std::min(xy.x1, s.support.x1),
                   std::min(xy.y1, s.support.y1)};
     const HeightField::Bound sb = s.shift->bound(in);
     const Interval shift(sb.lo, sb.hi);
-    v = combineBound(model_->operations()[s.index], v, P3<Interval>{box.x, box.y, box.z - shift});
     ++st.opsVisited;
+    return combineUpper(model_->operations()[s.index], hi, P3<Interval>{box.x, box.y, box.z - shift});
+  };
+  bool anywhere = false;  // a subtraction's tool was taken as anywhere
+  double hi = v.hi;
+  int k = 0;
+  for (; k < nSet && hi < -kPruneEps; ++k) {
+    const SetOp& s = *rc.setOps[k];
+    if (!acts(s)) continue;
+    const PreparedOp& op = model_->operations()[s.index];
+    if (op.op().kind == OpKind::BlendUnion) {
+      hi = withTool(s, hi);
+    } else {
+      hi = combineUpperAnywhere(op, hi), anywhere = true;
+      ++st.opsVisited;
+    }
   }
-  return v.hi < -kPruneEps;
+  // (Every bound there is at least the f it is given: past zero the first pass stays past it.)
+  if (hi < -kPruneEps) return true;
+  if (!anywhere && k == nSet) return false;  // the second pass would be the first
+  hi = v.hi;
+  for (k = 0; k < nSet; ++k)
+    if (const SetOp& s = *rc.setOps[k]; acts(s)) hi = withTool(s, hi);
+  return hi < -kPruneEps;
 }
 
 glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch) const {

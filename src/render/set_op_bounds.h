@@ -18,4 +18,11 @@ Interval toolBound(const ToolShape& tool, const P3<Interval>& p);
 // between the two ranges' ends (docs/rendering.md).
 Interval combineBound(const PreparedOp& op, const Interval& f, const P3<Interval>& box);
 
+// What proves f < 0 needs only f's upper end: an upper bound of combine(f, p) over p in `box` and
+// every f <= fHi (at least combineBound's upper end for any f with that upper end).
+double combineUpper(const PreparedOp& op, double fHi, const P3<Interval>& box);
+// The same wherever the tool is (a cheaper, looser bound, without the tool's shape or shift): a
+// subtraction raises f by its bump at most (plain subtraction not at all); +infinity for a union.
+double combineUpperAnywhere(const PreparedOp& op, double fHi);
+
 }  // namespace emboss

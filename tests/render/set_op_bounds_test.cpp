@@ -3,6 +3,7 @@
 // of a ray through a pile of flat punches, far above the sheet).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -62,6 +63,38 @@ TEST(SetOpBounds, HoldEveryValueInTheBox) {
   EXPECT_EQ(checked, 3000 * 40);
 }
 
+// The upper ends alone (what proves f < 0): above every value combine() takes in the box for any
+// f up to the given upper end; the bound without the tool's place is looser still, and infinite
+// for a union.
+TEST(SetOpBounds, UpperEndsHoldEveryValueBelowThem) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const std::vector<PreparedOp> ops = someOperations();
+  for (int trial = 0; trial < 3000; ++trial) {
+    const PreparedOp& op = ops[static_cast<size_t>(trial) % ops.size()];
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = -8.0 + 16.0 * u(rng);
+      hi[k] = lo[k] + 2.0 * u(rng) * u(rng);
+    }
+    const P3<Interval> box{Interval(lo[0], hi[0]), Interval(lo[1], hi[1]), Interval(lo[2], hi[2])};
+    const double fHi = -30.0 * u(rng) * u(rng) + 2.0 * u(rng);
+    const double upper = combineUpper(op, fHi, box), anywhere = combineUpperAnywhere(op, fHi);
+    if (op.op().kind == OpKind::BlendUnion)
+      EXPECT_TRUE(std::isinf(anywhere));
+    else
+      ASSERT_GE(anywhere, upper - 1e-9) << "trial " << trial;
+    for (int s = 0; s < 40; ++s) {
+      const P3<double> p{lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng), lo[2] + (hi[2] - lo[2]) * u(rng)};
+      // f anywhere below fHi, down to a pile's depths, and fHi itself.
+      const double f = s == 0 ? fHi : fHi - 300.0 * u(rng) * u(rng) * u(rng);
+      const double v = op.combine(f, p);
+      ASSERT_LE(v, upper) << "trial " << trial << " f " << f;
+      ASSERT_LE(v, anywhere) << "trial " << trial << " f " << f;
+    }
+  }
+}
+
 // Twelve flat punches on a spot, then a bead: far above them f is about -6 (the sheet) and each
 // subtraction about doubles how negative f gets; the bound's upper end must stay below zero there.
 TEST(SetOpBounds, StayBelowZeroAboveAPile) {
@@ -81,6 +114,16 @@ TEST(SetOpBounds, StayBelowZeroAboveAPile) {
   EXPECT_GE(f.hi, exact);
   EXPECT_LT(f.lo, -1000.0);  // the pile does drive f's lower end far down...
   EXPECT_LT(f.hi, -5.0);     // ...but not its upper end: the cell is proven outside
+  // The upper ends alone prove it too; the subtractions' bumps, wherever their tools are, raise
+  // f there by less than 1 in all.
+  double hi = -5.9, anywhere = -5.9;
+  for (const PreparedOp& op : pile) {
+    hi = combineUpper(op, hi, box);
+    anywhere = op.op().kind == OpKind::BlendUnion ? combineUpper(op, anywhere, box) : combineUpperAnywhere(op, anywhere);
+  }
+  EXPECT_GE(hi, exact);
+  EXPECT_LT(hi, -5.0);
+  EXPECT_LT(anywhere, -4.9);
 }
 
 }  // namespace
