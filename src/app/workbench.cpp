@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "frep/workpieces.h"
 
@@ -239,7 +243,7 @@ void Workbench::endStroke() {
   // The rest belongs to the same stroke as the operations already handed out.
   const size_t before = model_->activeCount();
   for (const auto& op : f.rest)
-    if (admit(op) && model_->add(op)) changes_.ops.push_back(model_->activeCount() - 1), ++committed_;
+    if (admit(op) && model_->add(fitted(op))) changes_.ops.push_back(model_->activeCount() - 1), ++committed_;
   const size_t added = model_->activeCount() - before;
   if (added) {
     if (strokeOpen_ && !strokes_.empty()) strokes_.back() += added;
@@ -264,10 +268,54 @@ bool Workbench::admit(const Operation& op) const {
   return true;
 }
 
+Operation Workbench::fitted(const Operation& op) const {
+  if (op.kind != OpKind::BlendSubtract || op.tool.type != ToolShape::Type::Flat) return op;
+  const double t = 2.0 * model_->workpiece().halfThickness();
+  const double step = t / 8.0;
+  const Vec3& c = op.tool.center;
+  const Vec3& h = op.tool.half;
+  const auto& ops = model_->operations();
+  std::vector<std::uint32_t> near;
+  double lowest = -std::numeric_limits<double>::infinity();  // where the face may go down to
+  constexpr int kGrid = 5;  // points a side over the face (a raised line between them is not seen)
+  for (int k = 0; k < kGrid * kGrid; ++k) {
+    const double u = -1.0 + 2.0 * (k % kGrid) / (kGrid - 1), v = -1.0 + 2.0 * (k / kGrid) / (kGrid - 1);
+    const double x = c.x + u * h.x, y = c.y + v * h.y;
+    near.clear();
+    for (size_t i = 0; i < model_->activeCount(); ++i)
+      if (ops[i].support().contains(x, y)) near.push_back(static_cast<std::uint32_t>(i));
+    const auto f = [&](double z) { return model_->evaluate(P3<double>{x, y, z}, near); };
+    // The first crossing into the metal from the tool's top down, and out of it again: the front
+    // and back faces there (a step an eighth of the sheet, then bisected).
+    const auto crossing = [&](double from, double to, bool inside) -> std::optional<double> {
+      double z = from;
+      while (z > to && (f(z) >= 0.0) != inside) z -= step;
+      if (z <= to) return std::nullopt;
+      double a = z, b = z + step;  // the side of a is the one sought; b's is not
+      for (int i = 0; i < 12; ++i) {
+        const double m = 0.5 * (a + b);
+        ((f(m) >= 0.0) == inside ? a : b) = m;
+      }
+      return a;
+    };
+    const auto front = crossing(c.z + h.z, c.z - h.z - 4.0 * t, true);
+    if (!front) continue;  // no metal under this point: nothing to keep
+    const auto back = crossing(*front - step / 4096.0, *front - 8.0 * t, false);
+    if (!back) continue;
+    // Half of what is left, and never less than a third of the sheet (strikes stacked on a spot
+    // would halve it each time, down to less than the tracer's grid along a ray).
+    lowest = std::max(lowest, *back + std::max(0.5 * (*front - *back), t / 3.0));
+  }
+  if (c.z - h.z >= lowest) return op;
+  Operation o = op;
+  o.tool.center.z = lowest + h.z;
+  return o;
+}
+
 void Workbench::commit(const std::vector<Operation>& ops) {
   size_t added = 0;
   for (const auto& op : ops)
-    if (admit(op) && model_->add(op)) changes_.ops.push_back(model_->activeCount() - 1), ++added, ++committed_;
+    if (admit(op) && model_->add(fitted(op))) changes_.ops.push_back(model_->activeCount() - 1), ++added, ++committed_;
   if (!added) return;
   redo_.clear();
   if (strokeOpen_) strokes_.back() += added;

@@ -117,6 +117,12 @@ class Workbench {
   // all of them: a visitor going over the same place again and again with the punch would make
   // each frame there dearer without end (the renderer's dense rays bound the search, not this).
   bool admit(const Operation& op) const;
+  // `op` as the sheet takes it from the pen: a flat punch beats the background down and never
+  // cuts through the metal. Its face is raised where it would leave less than half of the metal
+  // under it, or less than a third of the sheet (on a grid of points over its face): the
+  // visitor's pressure, a thin sheet and
+  // strikes stacked on a spot made holes, and a stroke over a hole ends there.
+  Operation fitted(const Operation& op) const;
 
   void undoOps(size_t n);
   void setView(bool turned, double now);

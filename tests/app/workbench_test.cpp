@@ -188,6 +188,43 @@ TEST(Workbench, TheBlendingPunchStacksAFewBeadsOnASpotAtMost) {
   EXPECT_EQ(b.model().activeCount(), onTheLine);
 }
 
+// The metal's thickness along z at (x, y): the longest run of f >= 0 from 3 mm above the plate to
+// 3 mm below it, in steps of 5 micrometres (0 where a hole goes through).
+double thicknessAt(const Model& m, double x, double y) {
+  double best = 0, run = 0;
+  for (double z = 3.0; z > -3.0; z -= 0.005) {
+    run = m.evaluate(P3<double>{x, y, z}) >= 0.0 ? run + 0.005 : 0.0;
+    best = std::max(best, run);
+  }
+  return best;
+}
+
+// A flat punch beats the background down and never cuts through the sheet: struck hard four times
+// along the same line of the 0.5 mm plate (each strike alone would go 0.66 mm deep), the metal
+// under the line keeps a third of its thickness at least; and it is beaten down all the same.
+TEST(Workbench, TheFlatPunchNeverCutsThroughTheSheet) {
+  Workbench b = makeBench();
+  b.resetForVisitor(0);
+  while (b.tool().kind != ToolKind::FlatPunch) b.apply(Action::NextTool, 0);
+  double t = 0;
+  const auto path = line({-12, 0}, {12, 3}, 60);
+  drag(b, path, 1.0, t);
+  ASSERT_GT(b.model().activeCount(), 3u);
+  const double sheet = 2.0 * b.model().workpiece().halfThickness();
+  // The first pass went down by more than a fifth of the sheet, at the line's middle.
+  double front = 3.0;
+  while (front > -3.0 && b.model().evaluate(P3<double>{0.0, 1.5, front}) < 0.0) front -= 0.005;
+  EXPECT_LT(front, b.model().workpiece().bounds().z1 - 0.2 * sheet);
+  for (int pass = 1; pass < 4; ++pass) drag(b, path, 1.0, t);
+  double thinnest = 1e9;
+  for (int i = 0; i <= 48; ++i)
+    for (double across : {-2.0, -1.0, 0.0, 1.0, 2.0}) {
+      const double x = -12.0 + 0.5 * i, y = 1.5 * (x + 12.0) / 12.0 + across;
+      thinnest = std::min(thinnest, thicknessAt(b.model(), x, y));
+    }
+  EXPECT_GE(thinnest, sheet / 3.0 - 0.02) << "the flat punch cut the sheet down to " << thinnest << " mm";
+}
+
 TEST(Workbench, UndoAndRedoTakeWholeStrokes) {
   Workbench b = makeBench();
   double t = 0;
