@@ -171,7 +171,7 @@ class Renderer {
   struct SetOp {
     std::uint32_t index;
     Box2 support;
-    double zlo, zhi;  // where the operation can change f, the later offsets' shift included
+    double zlo = 0.0, zhi = 0.0;  // where the operation can change f, the later offsets' shift included
     std::uint64_t id = 0;
     // The offsets after it, summed over its support: the shift that moves its tool with the
     // sheet, kept like D (same lattice spacing, same update rules, bit-exact).

@@ -271,15 +271,10 @@ void Renderer::syncSetOps(const Model& model) {
   const auto& ops = model.operations();
   const auto& ids = model.operationIds();
   const size_t active = model.activeCount();
-  std::vector<std::uint32_t> scratch;
-  std::vector<const PreparedOp*> list;
-  // The offsets after set operation i that may reach `box`, ascending.
-  auto offsetsAfter = [&](size_t i, const Box2& box) {
-    list.clear();
-    for (std::uint32_t j : grid_.in(box, scratch))
-      if (j > i && ops[j].op().isOffset()) list.push_back(&ops[j]);
-    return std::span<const PreparedOp* const>(list);
-  };
+  // Each set operation's shift field, kept (following the field's changes) or made afresh; the
+  // fields are independent, so they are brought up to date in parallel (an offset appended over
+  // a pile of set operations changes dozens of them).
+  std::vector<bool> kept;
   for (size_t i = 0; i < active; ++i) {
     const PreparedOp& op = ops[i];
     if (!op.op().isSet()) continue;
@@ -288,10 +283,26 @@ void Renderer::syncSetOps(const Model& model) {
     s.id = ids[i];
     s.support = op.support();
     while (reuse < old.size() && old[reuse].id != s.id) ++reuse;
-    if (fieldReady_ && reuse < old.size() && old[reuse].shift && !lastSync_.rebuilt) {
+    const bool keep = fieldReady_ && reuse < old.size() && old[reuse].shift && !lastSync_.rebuilt;
+    if (keep) s.shift = std::move(old[reuse].shift);
+    else if (fieldReady_) s.shift = std::make_shared<HeightField>();
+    kept.push_back(keep);
+    setOps_.push_back(std::move(s));
+  }
+  const auto update = [&](size_t k, std::vector<std::uint32_t>& scratch, std::vector<const PreparedOp*>& list) {
+    SetOp& s = setOps_[k];
+    if (!s.shift) return;
+    const size_t i = s.index;
+    // The offsets after set operation i that may reach `box`, ascending.
+    auto offsetsAfter = [&](const Box2& box) {
+      list.clear();
+      for (std::uint32_t j : grid_.in(box, scratch))
+        if (j > i && ops[j].op().isOffset()) list.push_back(&ops[j]);
+      return std::span<const PreparedOp* const>(list);
+    };
+    HeightField& f = *s.shift;
+    if (kept[k]) {
       // Follow the field's changes: appended offsets add, recomputed regions are summed again.
-      s.shift = std::move(old[reuse].shift);
-      HeightField& f = *s.shift;
       for (const FieldChange& c : fieldChanges_) {
         if (c.fieldRowsOnly || !c.region.overlaps(s.support)) continue;
         const HeightField::SampleRect r = f.samplesIn(c.region);
@@ -300,22 +311,30 @@ void Renderer::syncSetOps(const Model& model) {
           if (c.index <= i) continue;
           f.add(ops[c.index]);
         } else {
-          f.recompute(r, offsetsAfter(i, c.region));
+          f.recompute(r, offsetsAfter(c.region));
         }
         f.finish(r);
       }
-    } else if (fieldReady_) {
-      s.shift = std::make_shared<HeightField>();
-      s.shift->configure(s.support, field_.spacing());
-      s.shift->recompute(s.shift->all(), offsetsAfter(i, s.support));
-      s.shift->finish(s.shift->all());
+    } else {
+      f.configure(s.support, field_.spacing());
+      f.recompute(f.all(), offsetsAfter(s.support));
+      f.finish(f.all());
     }
+  };
+  if (!setOps_.empty()) {
+    pool_.parallelFor2D(Rect{0, 0, static_cast<int>(setOps_.size()), 1}, 1, [&](const Rect& t) {
+      std::vector<std::uint32_t> scratch;
+      std::vector<const PreparedOp*> list;
+      for (int k = t.x; k < t.x + t.w; ++k) update(static_cast<size_t>(k), scratch, list);
+    });
+  }
+  for (SetOp& s : setOps_) {
+    const Operation& o = ops[s.index].op();
     const HeightField::Bound shift = s.shift ? s.shift->rootBound() : HeightField::Bound{};
-    const Box3 tb = op.op().tool.bounds();
-    const double reach = kernels::kSupportSpan * op.op().tool.size();
+    const Box3 tb = o.tool.bounds();
+    const double reach = kernels::kSupportSpan * o.tool.size();
     s.zlo = tb.z0 - reach + shift.lo;
     s.zhi = tb.z1 + reach + shift.hi;
-    setOps_.push_back(std::move(s));
   }
   if (fieldReady_) updateFieldClip(model);
 }
