@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 namespace emboss {
 
@@ -260,20 +261,33 @@ void FrameComposer::enlarge(int lw, int lh, const PixelSpans& spans) {
 
 void FrameComposer::traceCoarse(const PixelSpans& spans, std::vector<Rect>& changed) {
   const Rect r = spans.box;
-  // The preview's scale, so the renderer's backdrop for that size is already there.
-  const int lw = std::max(8, w_ / previewScale_), lh = std::max(8, h_ / previewScale_);
-  // The low pixels the enlargement of r reads: its taps' span, one more each side.
+  // The low pixels the enlargement of r reads at a scale: its taps' span, one more each side.
   const auto lowSpan = [](int a, int b, int n, int from) {
     const int lo = static_cast<int>(std::floor((a + 0.5) * from / n - 0.5)) - 1;
     const int hi = static_cast<int>(std::ceil((b - 0.5) * from / n - 0.5)) + 1;
     return std::pair{std::clamp(lo, 0, from - 1), std::clamp(hi, 0, from - 1)};
   };
-  const auto [x0, x1] = lowSpan(r.x, r.x + r.w, w_, lw);
-  const auto [y0, y1] = lowSpan(r.y, r.y + r.h, h_, lh);
+  const auto lowRect = [&](int scale) {
+    const int lw = std::max(8, w_ / scale), lh = std::max(8, h_ / scale);
+    const auto [x0, x1] = lowSpan(r.x, r.x + r.w, w_, lw);
+    const auto [y0, y1] = lowSpan(r.y, r.y + r.h, h_, lh);
+    return std::tuple{lw, lh, Rect{x0, y0, x1 - x0 + 1, y1 - y0 + 1}};
+  };
+  // The preview's scale, so the renderer's backdrop for that size is already there; coarser where
+  // the last coarse traces cost more a pixel than fits in the dirty budget (rays through a pile
+  // of set operations cost ten times a plain sheet's, and the coarse picture held up the pen).
+  int scale = previewScale_;
+  while (!coarseScaleHeld_ && scale < kMaxCoarseScale &&
+         static_cast<double>(std::get<2>(lowRect(scale)).area()) * coarseMsPerPx_ > dirtyMs_)
+    ++scale;
+  const auto [lw, lh, low] = lowRect(scale);
+  const auto t0 = std::chrono::steady_clock::now();
   renderer_->setCamera(Camera(camera_, lw, lh));
   RenderStats st;
-  renderer_->render(low_, Rect{x0, y0, x1 - x0 + 1, y1 - y0 + 1}, &st);
+  renderer_->render(low_, low, &st);
   renderer_->setCamera(Camera(camera_, w_, h_));
+  const double perPx = msSince(t0) / std::max(1.0, static_cast<double>(low.area()));
+  coarseMsPerPx_ = coarseMsPerPx_ > 0 ? 0.5 * (coarseMsPerPx_ + perPx) : perPx;
   counters_.render += st;
   enlarge(lw, lh, spans);
   ++counters_.coarseRects;

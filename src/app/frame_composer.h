@@ -75,7 +75,11 @@ class FrameComposer {
   // The preview's scale (pixels a sample each way), which follows the preview's time: set for
   // tests, whose coarse pictures would otherwise depend on how busy the machine was.
   int previewScale() const { return previewScale_; }
-  void setPreviewScale(int scale) { previewScale_ = std::clamp(scale, 2, 8); }
+  // Setting it also holds a coarse dirty rectangle's scale at it (else that follows its cost).
+  void setPreviewScale(int scale) { previewScale_ = std::clamp(scale, 2, 8), coarseScaleHeld_ = true; }
+  // A coarse dirty rectangle is traced at the preview's scale, or coarser (up to this) where the
+  // last coarse traces say it would not fit in the dirty budget.
+  static constexpr int kMaxCoarseScale = 16;
   bool refining() const { return nextBand_ < h_; }
 
   const Image& frame() const { return frame_; }
@@ -146,6 +150,8 @@ class FrameComposer {
   int nextBand_ = 0;      // rows [nextBand_, h) still show the preview
   int bandRows_ = 16;
   int previewScale_ = 3;
+  bool coarseScaleHeld_ = false;
+  double coarseMsPerPx_ = 0;  // what the last coarse traces cost a pixel of theirs (0: none yet)
   double pxPerMs_ = 0;    // measured tracing speed of dirty rectangles
   double fieldBandMs_ = kFieldBandMs;
   std::vector<float> rowMs_;  // per row of the frame: its cost the last time a band traced it (0: not yet)

@@ -230,6 +230,38 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
 }
 
+// Where coarse pictures cost more than the dirty budget (rays through a pile of set operations),
+// the next is coarser still: traced from fewer rays, and the finished frame is a full render's.
+TEST(FrameComposer, ACoarsePictureGoesCoarserWhereTheLastOneCostTooMuch) {
+  constexpr int w = 480, h = 300;
+  ThreadPool pool(2);
+  FrameComposer fc(pool, w, h);
+  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  const CameraSpec home = benchCamera(m.workpiece().bounds(), w, h);
+  const ShadingParams sh = sheetOf("copper");
+  std::vector<Rect> changed;
+  fc.show(m, home, sh, {true, false, {}}, false);
+  fc.flush(changed);
+  fc.setDirtyBudget(0.05);  // any coarse picture costs more than this
+  fc.setFieldBandMs(0);
+  const auto coarseRays = [&](const Operation& op) {
+    const std::uint64_t before = fc.counters().render.rays, coarseBefore = fc.counters().coarseRects;
+    EXPECT_TRUE(m.add(op));
+    fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+    changed.clear();
+    fc.work(1000.0, changed, true);
+    EXPECT_EQ(fc.counters().coarseRects, coarseBefore + 1);
+    const std::uint64_t rays = fc.counters().render.rays - before;
+    fc.flush(changed);
+    return rays;
+  };
+  // The first at the preview's scale (8 at most), the second at 16.
+  const std::uint64_t first = coarseRays(raisedRectangle(18, 12)), second = coarseRays(raisedRectangle(17, 11));
+  EXPECT_GT(second, 0u);
+  EXPECT_LT(3 * second, first) << "the second coarse picture was not coarser";
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
+}
+
 // Attract mode presents on a fixed grid of ticks: a stroke's dirty rectangles traced late in a
 // period made the next tick late (a rectangle's cost is not known beforehand), so with `mayWait`
 // they wait for a call with at least kWaitUnlessMs of budget, the start of a period.
