@@ -175,19 +175,29 @@ TEST(FrameComposer, AFlushWithALimitStopsAndTheNextOneFinishes) {
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh).rgba);
 }
 
+// A 480 x 300 composer over the bare 60 x 40 mm copper plate, its first frame finished.
+struct PlateOnScreen {
+  static constexpr int w = 480, h = 300;
+  ThreadPool pool{2};
+  FrameComposer fc{pool, w, h};
+  Model m{std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet};
+  CameraSpec home = benchCamera(m.workpiece().bounds(), w, h);
+  ShadingParams sh = sheetOf("copper");
+  PlateOnScreen() {
+    std::vector<Rect> changed;
+    fc.show(m, home, sh, {true, false, {}}, false);
+    fc.flush(changed);  // (the bands measure the tracing speed)
+  }
+};
+
 // A dirty rectangle too big to trace within the frame (a raised region close up) is shown coarse
 // at once, the call returning so the kiosk presents it; its exact pixels follow in the next calls,
 // and the finished frame is a full render's, byte for byte.
 TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
-  constexpr int w = 480, h = 300;
-  ThreadPool pool(2);
-  FrameComposer fc(pool, w, h);
-  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
-  const CameraSpec home = benchCamera(m.workpiece().bounds(), w, h);
-  const ShadingParams sh = sheetOf("copper");
+  PlateOnScreen t;
+  auto& [pool, fc, m, home, sh] = t;
+  constexpr int w = PlateOnScreen::w, h = PlateOnScreen::h;
   std::vector<Rect> changed;
-  fc.show(m, home, sh, {true, false, {}}, false);
-  fc.flush(changed);  // the bands measure the tracing speed
   // What may be traced at once: a twentieth of a millisecond, so that the region is too big on
   // any machine.
   fc.setDirtyBudget(0.05);
@@ -233,15 +243,10 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
 // Where coarse pictures cost more than the dirty budget (rays through a pile of set operations),
 // the next is coarser still: traced from fewer rays, and the finished frame is a full render's.
 TEST(FrameComposer, ACoarsePictureGoesCoarserWhereTheLastOneCostTooMuch) {
-  constexpr int w = 480, h = 300;
-  ThreadPool pool(2);
-  FrameComposer fc(pool, w, h);
-  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
-  const CameraSpec home = benchCamera(m.workpiece().bounds(), w, h);
-  const ShadingParams sh = sheetOf("copper");
+  PlateOnScreen t;
+  auto& [pool, fc, m, home, sh] = t;
+  constexpr int w = PlateOnScreen::w, h = PlateOnScreen::h;
   std::vector<Rect> changed;
-  fc.show(m, home, sh, {true, false, {}}, false);
-  fc.flush(changed);
   fc.setDirtyBudget(0.05);  // any coarse picture costs more than this
   fc.setFieldBandMs(0);
   const auto coarseRays = [&](const Operation& op) {

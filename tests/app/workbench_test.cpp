@@ -24,6 +24,14 @@ Workbench makeBench() {
   return Workbench(s);
 }
 
+// A visitor's fresh bench holding the catalogue's first tool of kind k.
+Workbench benchWith(ToolKind k) {
+  Workbench b = makeBench();
+  b.resetForVisitor(0);
+  while (b.tool().kind != k) b.apply(Action::NextTool, 0);
+  return b;
+}
+
 // Screen position of a sheet point under the bench's current camera.
 glm::dvec2 screenOf(const Workbench& b, double x, double y) {
   return *Camera(b.camera(), kW, kH).project({x, y, 0.5});
@@ -158,9 +166,7 @@ TEST(Workbench, AStrokeBecomesTheCatalogueOperationsOfThatStroke) {
 // kMaxBlendsOnASpot beads there (more would make the tracer search the spot point by point); a
 // first pass elsewhere is whole.
 TEST(Workbench, TheBlendingPunchStacksAFewBeadsOnASpotAtMost) {
-  Workbench b = makeBench();
-  b.resetForVisitor(0);
-  while (b.tool().kind != ToolKind::BlendPunch) b.apply(Action::NextTool, 0);
+  Workbench b = benchWith(ToolKind::BlendPunch);
   double t = 0;
   const auto path = line({-20, 0}, {20, 0}, 80);
   drag(b, path, 0.6, t);
@@ -203,9 +209,7 @@ double thicknessAt(const Model& m, double x, double y) {
 // along the same line of the 0.5 mm plate (each strike alone would go 0.66 mm deep), the metal
 // under the line keeps a third of its thickness at least; and it is beaten down all the same.
 TEST(Workbench, TheFlatPunchNeverCutsThroughTheSheet) {
-  Workbench b = makeBench();
-  b.resetForVisitor(0);
-  while (b.tool().kind != ToolKind::FlatPunch) b.apply(Action::NextTool, 0);
+  Workbench b = benchWith(ToolKind::FlatPunch);
   double t = 0;
   const auto path = line({-12, 0}, {12, 3}, 60);
   drag(b, path, 1.0, t);

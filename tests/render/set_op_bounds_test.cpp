@@ -33,6 +33,24 @@ std::vector<PreparedOp> someOperations() {
   return ops;
 }
 
+// A box somewhere from inside the tools to well beyond their taper, of any size up to 2 mm, and
+// random points in it.
+struct RandomBox {
+  double lo[3], hi[3];
+  explicit RandomBox(std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = -8.0 + 16.0 * u(rng);
+      hi[k] = lo[k] + 2.0 * u(rng) * u(rng);
+    }
+  }
+  P3<Interval> box() const { return {Interval(lo[0], hi[0]), Interval(lo[1], hi[1]), Interval(lo[2], hi[2])}; }
+  P3<double> point(std::mt19937& rng) const {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    return {lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng), lo[2] + (hi[2] - lo[2]) * u(rng)};
+  }
+};
+
 TEST(SetOpBounds, HoldEveryValueInTheBox) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -40,18 +58,13 @@ TEST(SetOpBounds, HoldEveryValueInTheBox) {
   int checked = 0;
   for (int trial = 0; trial < 3000; ++trial) {
     const PreparedOp& op = ops[static_cast<size_t>(trial) % ops.size()];
-    // A box somewhere from inside the tool to well beyond its taper, of any size up to 2 mm.
-    double lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = -8.0 + 16.0 * u(rng);
-      hi[k] = lo[k] + 2.0 * u(rng) * u(rng);
-    }
+    const RandomBox rb(rng);
     // f's range: anything from far outside (a pile's f runs to hundreds) to inside.
     const double fa = -300.0 * u(rng) * u(rng) * u(rng) + 2.0 * u(rng), fb = fa + 20.0 * u(rng) * u(rng);
     const Interval f(fa, fb);
-    const Interval b = combineBound(op, f, P3<Interval>{Interval(lo[0], hi[0]), Interval(lo[1], hi[1]), Interval(lo[2], hi[2])});
+    const Interval b = combineBound(op, f, rb.box());
     for (int s = 0; s < 40; ++s) {
-      const P3<double> p{lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng), lo[2] + (hi[2] - lo[2]) * u(rng)};
+      const P3<double> p = rb.point(rng);
       // The corners of f's range too: the bounds are taken there.
       const double fv = s == 0 ? fa : s == 1 ? fb : fa + (fb - fa) * u(rng);
       const double v = op.combine(fv, p);
@@ -72,12 +85,8 @@ TEST(SetOpBounds, UpperEndsHoldEveryValueBelowThem) {
   const std::vector<PreparedOp> ops = someOperations();
   for (int trial = 0; trial < 3000; ++trial) {
     const PreparedOp& op = ops[static_cast<size_t>(trial) % ops.size()];
-    double lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = -8.0 + 16.0 * u(rng);
-      hi[k] = lo[k] + 2.0 * u(rng) * u(rng);
-    }
-    const P3<Interval> box{Interval(lo[0], hi[0]), Interval(lo[1], hi[1]), Interval(lo[2], hi[2])};
+    const RandomBox rb(rng);
+    const P3<Interval> box = rb.box();
     const double fHi = -30.0 * u(rng) * u(rng) + 2.0 * u(rng);
     const double upper = combineUpper(op, fHi, box), anywhere = combineUpperAnywhere(op, fHi);
     if (op.op().kind == OpKind::BlendUnion)
@@ -85,7 +94,7 @@ TEST(SetOpBounds, UpperEndsHoldEveryValueBelowThem) {
     else
       ASSERT_GE(anywhere, upper - 1e-9) << "trial " << trial;
     for (int s = 0; s < 40; ++s) {
-      const P3<double> p{lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng), lo[2] + (hi[2] - lo[2]) * u(rng)};
+      const P3<double> p = rb.point(rng);
       // f anywhere below fHi, down to a pile's depths, and fHi itself.
       const double f = s == 0 ? fHi : fHi - 300.0 * u(rng) * u(rng) * u(rng);
       const double v = op.combine(f, p);
