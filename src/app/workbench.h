@@ -120,8 +120,8 @@ class Workbench {
   // `op` as the sheet takes it from the pen: a flat punch beats the background down and never
   // cuts through the metal. Its face is raised where it would leave less than half of the metal
   // under it, or less than a third of the sheet (on a grid of points over its face): the
-  // visitor's pressure, a thin sheet and
-  // strikes stacked on a spot made holes, and a stroke over a hole ends there.
+  // visitor's pressure, a thin sheet and strikes stacked on a spot made holes, and a stroke
+  // over a hole ends there.
   Operation fitted(const Operation& op) const;
 
   void undoOps(size_t n);

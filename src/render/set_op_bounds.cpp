@@ -62,34 +62,6 @@ Interval toolBound(const ToolShape& tool, const P3<Interval>& p) {
   return Interval::whole();
 }
 
-Interval combineBound(const PreparedOp& prepared, const Interval& f, const P3<Interval>& box) {
-  const Operation& op = prepared.op();
-  const Interval g = toolBound(op.tool, box);
-  Interval c;
-  if (op.kind == OpKind::Subtract) {
-    c = Interval(std::min(f.lo, -g.hi), std::min(f.hi, -g.lo));
-  } else {
-    // f + s and f - s, s = g + sqrt(f^2 + g^2), are monotone in f and g (their partial
-    // derivatives 1 +- f / sqrt(f^2 + g^2) and +-(1 + g / sqrt(f^2 + g^2)) keep their signs), so
-    // their ranges are their values at the box's corners: no |f| in the upper end, which a pile
-    // of subtractions makes huge (each about doubles f's lower end away from its tool).
-    // bump = a1 / (1 + (f/a2)^2 + (g/a3)^2), bounded apart.
-    const double dLo = 1.0 + sqr(f).lo / (op.a2 * op.a2) + sqr(g).lo / (op.a3 * op.a3);
-    const double dHi = 1.0 + sqr(f).hi / (op.a2 * op.a2) + sqr(g).hi / (op.a3 * op.a3);
-    const double b1 = op.a1 / dLo, b2 = op.a1 / dHi;
-    const double bLo = std::min(b1, b2), bHi = std::max(b1, b2);
-    if (op.kind == OpKind::BlendUnion)
-      c = Interval(f.lo + rSum(f.lo, g.lo) + bLo, f.hi + rSum(f.hi, g.hi) + bHi);
-    else
-      c = Interval(f.lo - rSum(f.lo, g.hi) + bLo, f.hi - rSum(f.hi, g.lo) + bHi);
-    // Rounding: a few ulps of the terms, which may be far larger than the result.
-    const double m = 1e-13 * (std::max(std::abs(f.lo), std::abs(f.hi)) + std::max(std::abs(g.lo), std::abs(g.hi)));
-    c = Interval(c.lo - m, c.hi + m);
-  }
-  // The taper's weight w in [0, 1]: f + w (c - f) lies between f and c.
-  return widen(Interval(std::min(f.lo, c.lo), std::max(f.hi, c.hi)));
-}
-
 double combineUpper(const PreparedOp& prepared, double fHi, const P3<Interval>& box) {
   const Operation& op = prepared.op();
   const Interval g = toolBound(op.tool, box);
