@@ -274,16 +274,17 @@ Operation Workbench::fitted(const Operation& op) const {
   const double step = t / 8.0;
   const Vec3& c = op.tool.center;
   const Vec3& h = op.tool.half;
+  // The operations that can act under the face (each point's own list is a subset).
+  const Box2 face{c.x - h.x, c.y - h.y, c.x + h.x, c.y + h.y};
   const auto& ops = model_->operations();
   std::vector<std::uint32_t> near;
+  for (size_t i = 0; i < model_->activeCount(); ++i)
+    if (ops[i].support().overlaps(face)) near.push_back(static_cast<std::uint32_t>(i));
   double lowest = -std::numeric_limits<double>::infinity();  // where the face may go down to
   constexpr int kGrid = 5;  // points a side over the face (a raised line between them is not seen)
   for (int k = 0; k < kGrid * kGrid; ++k) {
     const double u = -1.0 + 2.0 * (k % kGrid) / (kGrid - 1), v = -1.0 + 2.0 * (k / kGrid) / (kGrid - 1);
     const double x = c.x + u * h.x, y = c.y + v * h.y;
-    near.clear();
-    for (size_t i = 0; i < model_->activeCount(); ++i)
-      if (ops[i].support().contains(x, y)) near.push_back(static_cast<std::uint32_t>(i));
     const auto f = [&](double z) { return model_->evaluate(P3<double>{x, y, z}, near); };
     // The first crossing into the metal from the tool's top down, and out of it again: the front
     // and back faces there (a step an eighth of the sheet, then bisected).
