@@ -128,6 +128,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     const double len = glm::length(b - a);
     const double r = 0.5 * lipschitzAlong((b - a) / len, field_.bound(xy), workpieceKind_) * len + kPruneEps;
     if (std::max(fm + r, outsideUpper) >= -kPruneEps || setOpHere) slabBound = false, columnsOk = false;
+    else return ++st.fieldEvaluations, true;  // (no set operation here: the bound below would be this one)
   }
   if (slabBound && !(workpieceKind_ == 4 && !columnsOk)) {
     const double fm = sheetValue(0.5 * (a + b));
@@ -279,8 +280,15 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     // above skips to where it goes under that face's highest point (the clip box also holds the
     // set operations' tools), or to the first window.
     if (frontThickness_ >= 0.0 && ray.dir.z < 0.0 && reachInDomain) {
-      const double top = rb.hi + frontThickness_ + 1e-6;
-      const long topQ = static_cast<long>(std::floor((top - ray.origin.z) / ray.dir.z / h8)) - 1;
+      auto under = [&](double hi) { return static_cast<long>(std::floor((hi + frontThickness_ + 1e-6 - ray.origin.z) / ray.dir.z / h8)) - 1; };
+      long topQ = under(rb.hi);
+      // The rest of the ray, from there, reaches less of the sheet: its highest point there may be
+      // lower (a ray over flat metal beside a raised motif), a few times over.
+      for (int k = 0; k < 3 && topQ > q0 && topQ < q1; ++k) {
+        const long next = under(field_.bound(xyBox(at(topQ), pb)).hi);
+        if (next <= topQ) break;
+        topQ = next;
+      }
       const long e = std::min({topQ, q1, rc.nextWindow(q0, q1 + 1) - 1});
       if (e >= q0) rc.skipLo[rc.skips] = q0, rc.skipHi[rc.skips] = e, ++rc.skips;
     }
