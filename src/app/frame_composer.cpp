@@ -145,6 +145,7 @@ void FrameComposer::show(const Model& model, const CameraSpec& camera, const Sha
   if (full) {
     urgent_.clear();
     coarse_.clear();
+    bandMsPerPx_ = 0;
     const auto it = model.activeCount() == 0 ? blanks_.find(blankKey()) : blanks_.end();
     if (it != blanks_.end()) {
       frame_ = it->second;
@@ -173,12 +174,18 @@ double FrameComposer::renderRect(const Rect& r, std::vector<Rect>& changed, bool
   return renderSpans(PixelSpans::of(r), changed, onPiece);
 }
 
-double FrameComposer::renderSpans(const PixelSpans& s, std::vector<Rect>& changed, bool onPiece) {
+double FrameComposer::renderSpans(const PixelSpans& s, std::vector<Rect>& changed, bool onPiece,
+                                  std::optional<std::chrono::steady_clock::time_point> deadline, bool* stopped) {
   RenderStats st;
   const auto t0 = std::chrono::steady_clock::now();
-  renderer_->render(frame_, s, &st);
+  renderer_->setDeadline(deadline);
+  const bool done = renderer_->render(frame_, s, &st);
+  renderer_->setDeadline(std::nullopt);
   const double ms = msSince(t0);
   counters_.render += st;
+  changed.push_back(s.box);  // (some of its pixels even when it stopped)
+  if (stopped) *stopped = !done;
+  if (!done) return ms;
   // The dirty budget's speed is measured on what strokes change (the piece); a band's rows of
   // backdrop cost a small fraction of a row across the piece.
   const double area = static_cast<double>(s.area());
@@ -186,7 +193,6 @@ double FrameComposer::renderSpans(const PixelSpans& s, std::vector<Rect>& change
     const double speed = area / ms;
     pxPerMs_ = pxPerMs_ <= 0 ? speed : 0.8 * pxPerMs_ + 0.2 * speed;
   }
-  changed.push_back(s.box);
   return ms;
 }
 
@@ -259,7 +265,7 @@ void FrameComposer::enlarge(int lw, int lh, const PixelSpans& spans) {
   });
 }
 
-void FrameComposer::traceCoarse(const PixelSpans& spans, std::vector<Rect>& changed) {
+void FrameComposer::traceCoarse(const PixelSpans& spans, std::vector<Rect>& changed, double budgetMs) {
   const Rect r = spans.box;
   // The low pixels the enlargement of r reads at a scale: its taps' span, one more each side.
   const auto lowSpan = [](int a, int b, int n, int from) {
@@ -274,11 +280,11 @@ void FrameComposer::traceCoarse(const PixelSpans& spans, std::vector<Rect>& chan
     return std::tuple{lw, lh, Rect{x0, y0, x1 - x0 + 1, y1 - y0 + 1}};
   };
   // The preview's scale, so the renderer's backdrop for that size is already there; coarser where
-  // the last coarse traces cost more a pixel than fits in the dirty budget (rays through a pile
-  // of set operations cost ten times a plain sheet's, and the coarse picture held up the pen).
+  // the last coarse traces cost more a pixel than fits in the budget (rays through a pile of set
+  // operations cost ten times a plain sheet's, and the coarse picture held up the pen).
   int scale = previewScale_;
   while (!coarseScaleHeld_ && scale < kMaxCoarseScale &&
-         static_cast<double>(std::get<2>(lowRect(scale)).area()) * coarseMsPerPx_ > dirtyMs_)
+         static_cast<double>(std::get<2>(lowRect(scale)).area()) * coarseMsPerPx_ > budgetMs)
     ++scale;
   const auto [lw, lh, low] = lowRect(scale);
   const auto t0 = std::chrono::steady_clock::now();
@@ -288,6 +294,8 @@ void FrameComposer::traceCoarse(const PixelSpans& spans, std::vector<Rect>& chan
   renderer_->setCamera(Camera(camera_, w_, h_));
   const double perPx = msSince(t0) / std::max(1.0, static_cast<double>(low.area()));
   coarseMsPerPx_ = coarseMsPerPx_ > 0 ? 0.5 * (coarseMsPerPx_ + perPx) : perPx;
+  // Its exact pixels will cost about what a coarse ray cost here (at least).
+  bandMsPerPx_ = std::max(bandMsPerPx_, perPx);
   counters_.render += st;
   enlarge(lw, lh, spans);
   ++counters_.coarseRects;
@@ -360,29 +368,57 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
     counters_.dirtyPixels += static_cast<std::uint64_t>(r.area());
     if (tooSlow && r.area() > 0.25 * dirtyMs_ * speed) {
       // Shown coarse now, exactly a band of its rows at a time next.
-      traceCoarse(r, changed);
+      traceCoarse(r, changed, dirtyMs_);
       coarse_.push_back(r);
       anyCoarse = true;
     } else {
-      renderSpans(r, changed, true);
+      // Traced exactly; where it costs far more than the speed promised (a pile of set operations
+      // under a small rectangle), stopped and shown coarse instead (its rays traced so far kept).
+      bool stopped = false;
+      const auto deadline = std::chrono::steady_clock::now() +
+                            std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                std::chrono::duration<double, std::milli>(kDirtyOverrun * dirtyMs_));
+      renderSpans(r, changed, true, deadline, &stopped);
+      if (stopped) {
+        // (the dirty budget is spent: as coarse as a quarter of it allows)
+        ++counters_.dirtyStopped;
+        traceCoarse(r, changed, 0.25 * dirtyMs_);
+        coarse_.push_back(r);
+        anyCoarse = true;
+      }
     }
   }
   // (Merged: a big region's bands overlap by the shading's reach; their exact pixels once.)
   if (anyCoarse) coarse_ = mergeSpans(std::move(coarse_));
   if (anyCoarse || (dirtyAlone && !dirty.empty())) return;
-  // The coarse rectangles' exact pixels, a band of rows at a time, oldest first.
+  // The coarse rectangles' exact pixels, a band at a time in row order, oldest first: as many
+  // pixels as fit in what is left at what the last band cost a pixel (at first what the coarse
+  // pictures cost a ray). A pixel can cost twenty times its neighbour's (a pile of set
+  // operations beside flat metal): a band still unfinished at the end of the budget stops there,
+  // and is traced again later, its rays traced so far shaded at their kept hits.
+  const auto budgetEnd = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                  std::chrono::duration<double, std::milli>(std::min(budgetMs, 1e9)));
   while (!coarse_.empty()) {
     const double left = budgetMs - msSince(t0);
     if (left <= 0) break;
     PixelSpans& s = coarse_.front();
-    const Rect r = s.box;
-    // (in doubles first: flush()'s budget would overflow an int)
     const double speed = dirtySpeed();
-    int rows = speed > 0 ? static_cast<int>(std::min(left * speed / std::max(1, r.w), 1e6)) : 8;
-    rows = std::min(std::max(rows, 4), r.h);
-    renderSpans(s.band(r.y, r.y + rows), changed, true);
-    s = s.band(r.y + rows, r.y + r.h);
+    const double perPx = bandMsPerPx_ > 0 ? bandMsPerPx_ : speed > 0 ? 1.0 / speed : 0.0;
+    // (in doubles first: flush()'s budget would overflow a long)
+    const long px = perPx > 0 ? static_cast<long>(std::min(left / perPx, 1e12)) : 8L * s.box.w;
+    auto [band, rest] = s.split(std::max(px, kMinBandPixels));
+    bool stopped = false;
+    const double ms = renderSpans(band, changed, true, budgetEnd, &stopped);
+    if (stopped) {
+      // Dearer than expected: the next band is sized from what this one did in its time.
+      ++counters_.bandsStopped;
+      bandMsPerPx_ = std::max(2.0 * perPx, bandMsPerPx_);
+      break;
+    }
+    bandMsPerPx_ = ms / static_cast<double>(std::max(1L, band.area()));
+    s = std::move(rest);
     if (s.empty()) coarse_.erase(coarse_.begin());
+    if (coarse_.empty()) bandMsPerPx_ = 0;
   }
   while (nextBand_ < h_) {
     const double left = budgetMs - msSince(t0);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -83,6 +84,10 @@ class FrameComposer {
   bool refining() const { return nextBand_ < h_; }
 
   const Image& frame() const { return frame_; }
+  // Renderer::pick() through the frame's renderer (Workbench::Picker).
+  bool pick(const Model& model, const Camera& camera, double sx, double sy, std::optional<glm::dvec3>& hit) const {
+    return renderer_ && renderer_->pick(model, camera, sx, sy, hit);
+  }
   const CameraSpec& camera() const { return camera_; }
 
   // Counters for the diagnostics screen.
@@ -92,6 +97,8 @@ class FrameComposer {
     std::uint64_t dirtyWaits = 0;   // calls whose dirty rectangles waited for the next (mayWait)
     std::uint64_t fieldBands = 0;   // bands of a big raised region added after its first
     std::uint64_t fieldRebuilds = 0;  // a model's height field built from scratch
+    std::uint64_t bandsStopped = 0;   // exact bands of coarse rectangles stopped at the budget's end
+    std::uint64_t dirtyStopped = 0;   // dirty rectangles stopped at kDirtyOverrun and shown coarse
     double lastPreviewMs = 0;
     RenderStats render;
   };
@@ -102,13 +109,17 @@ class FrameComposer {
   void preview(std::vector<Rect>& changed);
   // The frame's pixels in r from low_, a picture of the same view scaled to lw x lh (bilinear).
   void enlarge(int lw, int lh, const PixelSpans& r);
-  // r traced at the preview's scale and enlarged into the frame.
-  void traceCoarse(const PixelSpans& r, std::vector<Rect>& changed);
+  // r traced at the preview's scale, or coarser when that would cost more than budgetMs, and
+  // enlarged into the frame.
+  void traceCoarse(const PixelSpans& r, std::vector<Rect>& changed, double budgetMs);
   // Traces r into the frame (ms); `onPiece`: a dirty rectangle's pixels, which set the speed the
   // dirty budget is judged by.
   double renderRect(const Rect& r, std::vector<Rect>& changed, bool onPiece);
-  // The same over spans (their box is what changed).
-  double renderSpans(const PixelSpans& s, std::vector<Rect>& changed, bool onPiece);
+  // The same over spans (their box is what changed); with a deadline it stops there, *stopped
+  // then set (some of the pixels left as they were).
+  double renderSpans(const PixelSpans& s, std::vector<Rect>& changed, bool onPiece,
+                     std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt,
+                     bool* stopped = nullptr);
   // Pixels a millisecond where strokes land: as dirty rectangles measured it, else as the dearest
   // row of a band did (0: nothing traced yet).
   double dirtySpeed() const { return pxPerMs_ > 0 ? pxPerMs_ : maxRowMs_ > 0 ? w_ / maxRowMs_ : 0.0; }
@@ -152,6 +163,12 @@ class FrameComposer {
   int previewScale_ = 3;
   bool coarseScaleHeld_ = false;
   double coarseMsPerPx_ = 0;  // what the last coarse traces cost a pixel of theirs (0: none yet)
+  // What the next exact band of coarse_ is expected to cost a pixel: what the band before cost,
+  // or at first the dearest coarse ray since (0: nothing pending).
+  double bandMsPerPx_ = 0;
+  static constexpr long kMinBandPixels = 64;
+  // A dirty rectangle traced exactly stops after this many dirty budgets and is shown coarse.
+  static constexpr double kDirtyOverrun = 1.5;
   double pxPerMs_ = 0;    // measured tracing speed of dirty rectangles
   double fieldBandMs_ = kFieldBandMs;
   std::vector<float> rowMs_;  // per row of the frame: its cost the last time a band traced it (0: not yet)

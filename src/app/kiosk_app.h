@@ -61,6 +61,13 @@ class KioskApp {
   // The pen (null: none). With `fast`, a recording is fed as fast as the kiosk can take it: one
   // display frame's worth of its samples per step, each stamped when taken.
   void setPen(PenSource* pen, PenMapping mapping, bool fast = false);
+  // Whether the pen finds the metal through the frame's renderer (the default: one ray as the
+  // picture was traced), or on the model alone (pickSurface(): what a replay of the same samples
+  // through a Workbench gives, bit for bit, whatever the machine's speed).
+  void setPickThroughRenderer(bool on) {
+    pickThroughRenderer_ = on;
+    connectPicker();
+  }
   void addButtons(ButtonSource* buttons);
   // Whether a button source is still in use (one that stopped answering has been dropped).
   bool hasButtons(const ButtonSource* buttons) const { return std::find(buttons_.begin(), buttons_.end(), buttons) != buttons_.end(); }
@@ -154,6 +161,9 @@ class KioskApp {
   void pollInput(double now);
   void handleButton(const ButtonEvent& e, double now);
   void handlePen(const PenSample& s, double arrival, double now);
+  // The bench's pen finds the metal through the frame's renderer (Workbench::setPicker).
+  void connectPicker();
+  bool pickThroughRenderer_ = true;
   void handleEvents(double now);
   void saveSession(const std::string& why);
   // The journal learns what changed on the bench since the last call (operations, undo, metal).

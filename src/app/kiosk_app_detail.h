@@ -1,5 +1,5 @@
-// What the kiosk app's source files (kiosk_app, kiosk_staff, kiosk_capture) share: the staff menu,
-// timings and text helpers. Internal to src/app.
+// What the kiosk app's source files (kiosk_app, kiosk_input, kiosk_staff, kiosk_capture) share:
+// the staff menu, timings and text helpers. Internal to src/app.
 #pragma once
 
 #include <cstddef>

@@ -200,7 +200,8 @@ void Workbench::pen(double sx, double sy, double pressure, bool tip, bool inRang
     penAway();
     return;
   }
-  const auto hit = pickSurface(*model_, *camera_, sx, sy);
+  std::optional<glm::dvec3> hit;
+  if (!picker_ || !picker_(*model_, *camera_, sx, sy, hit)) hit = pickSurface(*model_, *camera_, sx, sy);
   if (!hit) {
     hover_ = {};
     endStroke();  // off the metal: the stroke ends at its edge

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -54,6 +55,12 @@ class Workbench {
   // The pen at screen pixel (sx, sy). A touch on the metal starts or continues a stroke; the
   // stroke ends when the tip lifts or the pen leaves the metal.
   void pen(double sx, double sy, double pressure, bool tip, bool inRange, double now);
+  // Where the pen's point meets the sheet, found by the one who draws it when it can (the ray
+  // through the pen's pixel as the picture was traced: the metal the visitor sees): true and the
+  // point (nullopt: off the metal) in `hit`; false: pickSurface() on the model instead.
+  using Picker = std::function<bool(const Model& model, const Camera& camera, double sx, double sy,
+                                    std::optional<glm::dvec3>& hit)>;
+  void setPicker(Picker picker) { picker_ = std::move(picker); }
   // The pen is gone (out of range, device lost): ends a stroke, hides the footprint.
   void penAway();
   // Ends a stroke in progress (its operations join the model) with the pen left where it is.
@@ -142,6 +149,7 @@ class Workbench {
   bool turned_ = false, animating_ = false;
   double animStart_ = 0;
   std::optional<Camera> camera_;
+  Picker picker_;
   ScreenBox tabletArea_;
   Hover hover_;
   double pressure_ = 0;

@@ -88,6 +88,20 @@ PixelSpans PixelSpans::band(int y0, int y1) const {
   return trimmed(y0, std::vector<Span>(rows.begin() + (y0 - box.y), rows.begin() + (y1 - box.y)));
 }
 
+std::pair<PixelSpans, PixelSpans> PixelSpans::split(long n) const {
+  if (n <= 0) return {PixelSpans{}, *this};
+  std::vector<Span> head(rows.size()), rest(rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Span s = rows[i];
+    if (s.empty()) continue;
+    const long take = std::clamp(n, 0L, static_cast<long>(s.x1 - s.x0));
+    n -= take;
+    if (take > 0) head[i] = {s.x0, s.x0 + static_cast<int>(take)};
+    if (s.x0 + take < s.x1) rest[i] = {s.x0 + static_cast<int>(take), s.x1};
+  }
+  return {trimmed(box.y, std::move(head)), trimmed(box.y, std::move(rest))};
+}
+
 void SpanBuilder::addHullOf(std::span<const glm::dvec2> points) {
   if (points.empty()) return;
   // The convex hull (Andrew's monotone chain, frep/convex_hull.h), counter-clockwise in y-down

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -34,6 +35,9 @@ struct PixelSpans {
   PixelSpans united(const PixelSpans& o) const;
   // The rows [y0, y1) of these.
   PixelSpans band(int y0, int y1) const;
+  // The first n of these pixels in row order (whole rows, then the leftmost of the next row's
+  // span), and the rest.
+  std::pair<PixelSpans, PixelSpans> split(long n) const;
 };
 
 // Collects convex polygons in image coordinates (pixel x's centre at x + 0.5) and gives the pixels

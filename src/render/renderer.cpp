@@ -216,6 +216,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   while (tileSize > 8 && static_cast<long>(rect.w / tileSize + 1) * (rect.h / tileSize + 1) < 6L * pool_.size()) tileSize /= 2;
   std::mutex statsMutex;
   std::atomic_bool aborted{false};
+  const std::optional<std::chrono::steady_clock::time_point> deadline = deadline_;
   // One pass: `pixel` over every pixel of `area` on the pool, its wall time per tile summed into
   // the stats' `seconds`. A superseded frame stops within a row.
   auto pass = [&](const PixelSpans& area, double RenderStats::*seconds, const auto& pixel) {
@@ -225,7 +226,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       RenderStats st;
       const auto start = Clock::now();
       for (int y = tile.y; y < tile.y + tile.h; ++y) {
-        if (cancel && cancel->load(std::memory_order_relaxed)) {
+        if ((cancel && cancel->load(std::memory_order_relaxed)) || (deadline && Clock::now() > *deadline)) {
           aborted = true;
           return;
         }

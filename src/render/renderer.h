@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -103,6 +104,10 @@ class Renderer {
   // The same over the pixels of `spans` (a dirty update's, dirtySpans()).
   bool render(Image& image, const PixelSpans& spans, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
   bool renderFull(Image& image, RenderStats* stats = nullptr, const std::atomic_bool* cancel = nullptr);
+  // Renders started from now on stop, as if cancelled, within a row of a tile once the clock
+  // passes `deadline` (none: never); the rays traced before it keep their hits, so the pixels
+  // traced again after it are shaded again rather than traced.
+  void setDeadline(std::optional<std::chrono::steady_clock::time_point> deadline) { deadline_ = deadline; }
 
   // The pixels whose rays can see a change made by operation `index` of the model (just appended,
   // or just undone): the projection of the 3D box where f can change sign or where a hit's
@@ -116,6 +121,12 @@ class Renderer {
   // Whether an append is still being added to the field a band of rows at a time
   // (RenderOptions::fieldBandMs): the picture then shows its rows added so far.
   bool fieldPending() const { return pending_.active; }
+  // The point of the surface on the ray through image point (sx, sy) of `camera`, as the
+  // renderer traces it (nullopt: the ray misses), into `hit`; false when the renderer cannot
+  // answer for that model and camera: another model, or the model edited since the last sync(),
+  // a field still rising a band at a time, or another camera. (The kiosk's pen, over a pile of
+  // set operations: one ray instead of the exact model's intervals along it.)
+  bool pick(const Model& model, const Camera& camera, double sx, double sy, std::optional<glm::dvec3>& hit) const;
   // Adds the next rows of that append for about `budgetMs` (whole rows, at least eight)
   // and returns the pixels that can change with them (to trace, as dirtySpans()); the last rows
   // end it. Nothing pending: nothing done, empty spans. Call between renders, as sync().
@@ -164,6 +175,7 @@ class Renderer {
     bool blank = false;
   };
   HitCache hitCaches_[2];  // [0]: the current camera's
+  std::optional<std::chrono::steady_clock::time_point> deadline_;  // setDeadline()
   // Forgets the kept hits a sync() may have moved: `followed` whether the model was the one
   // followed before, `setIdsBefore` the set operations' ids before it.
   void forgetMovedHits(bool followed, const std::vector<std::uint64_t>& setIdsBefore);
@@ -242,6 +254,9 @@ class Renderer {
 
   ThreadPool& pool_;
   const Model* model_ = nullptr;
+  std::uint64_t syncedRevision_ = 0;  // model_->revision() at the last sync()
+  // Its workpiece then, held (so that another model at the same address is never taken for it).
+  std::shared_ptr<const Workpiece> syncedWorkpiece_;
   OpGrid grid_;
   std::optional<Camera> camera_;
   ShadingParams shading_{};

@@ -40,6 +40,8 @@ void Renderer::sync(const Model& model) {
   hasPatina_ = false;
   for (size_t i = 0; i < model.activeCount() && !hasPatina_; ++i) hasPatina_ = model.operations()[i].op().isPatina();
   forgetMovedHits(followed, setIdsBefore);
+  syncedRevision_ = model.revision();
+  syncedWorkpiece_ = model.workpiecePtr();
 }
 
 void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& setIdsBefore) {
@@ -289,21 +291,34 @@ void Renderer::syncSetOps(const Model& model) {
     kept.push_back(keep);
     setOps_.push_back(std::move(s));
   }
+  // The offsets that may reach each recomputed region, ascending: the same for every shift field
+  // under it (found once, not once a field).
+  std::vector<std::vector<std::uint32_t>> inRegion(fieldChanges_.size());
+  {
+    std::vector<std::uint32_t> scratch;
+    for (size_t c = 0; c < fieldChanges_.size(); ++c) {
+      const FieldChange& fc = fieldChanges_[c];
+      if (fc.append || fc.fieldRowsOnly || setOps_.empty()) continue;
+      for (std::uint32_t j : grid_.in(fc.region, scratch))
+        if (ops[j].op().isOffset()) inRegion[c].push_back(j);
+    }
+  }
   const auto update = [&](size_t k, std::vector<std::uint32_t>& scratch, std::vector<const PreparedOp*>& list) {
     SetOp& s = setOps_[k];
     if (!s.shift) return;
     const size_t i = s.index;
-    // The offsets after set operation i that may reach `box`, ascending.
-    auto offsetsAfter = [&](const Box2& box) {
+    // The offsets after set operation i among `candidates` (ascending), ascending.
+    auto after = [&](std::span<const std::uint32_t> candidates) {
       list.clear();
-      for (std::uint32_t j : grid_.in(box, scratch))
-        if (j > i && ops[j].op().isOffset()) list.push_back(&ops[j]);
+      for (auto it = std::upper_bound(candidates.begin(), candidates.end(), static_cast<std::uint32_t>(i)); it != candidates.end(); ++it)
+        list.push_back(&ops[*it]);
       return std::span<const PreparedOp* const>(list);
     };
     HeightField& f = *s.shift;
     if (kept[k]) {
       // Follow the field's changes: appended offsets add, recomputed regions are summed again.
-      for (const FieldChange& c : fieldChanges_) {
+      for (size_t ci = 0; ci < fieldChanges_.size(); ++ci) {
+        const FieldChange& c = fieldChanges_[ci];
         if (c.fieldRowsOnly || !c.region.overlaps(s.support)) continue;
         const HeightField::SampleRect r = f.samplesIn(c.region);
         if (r.empty()) continue;
@@ -311,13 +326,16 @@ void Renderer::syncSetOps(const Model& model) {
           if (c.index <= i) continue;
           f.add(ops[c.index]);
         } else {
-          f.recompute(r, offsetsAfter(c.region));
+          f.recompute(r, after(inRegion[ci]));
         }
         f.finish(r);
       }
     } else {
       f.configure(s.support, field_.spacing());
-      f.recompute(f.all(), offsetsAfter(s.support));
+      std::vector<std::uint32_t> offsets;
+      for (std::uint32_t j : grid_.in(s.support, scratch))
+        if (ops[j].op().isOffset()) offsets.push_back(j);
+      f.recompute(f.all(), after(offsets));
       f.finish(f.all());
     }
   };
@@ -411,6 +429,17 @@ bool sameCamera(const Camera& a, const Camera& b) {
 }
 
 }  // namespace
+
+bool Renderer::pick(const Model& model, const Camera& camera, double sx, double sy, std::optional<glm::dvec3>& hit) const {
+  if (model_ != &model || model.revision() != syncedRevision_ || model.workpiecePtr() != syncedWorkpiece_ || fieldPending() ||
+      !camera_ || !sameCamera(*camera_, camera))
+    return false;
+  RenderStats st;
+  std::vector<std::uint32_t> scratch;
+  const std::optional<Hit> h = usesField() ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
+  hit = h ? std::optional<glm::dvec3>(h->p) : std::nullopt;
+  return true;
+}
 
 void Renderer::setCamera(const Camera& camera) {
   const bool sameSize = camera_ && camera_->width() == camera.width() && camera_->height() == camera.height();

@@ -240,6 +240,31 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
 }
 
+// A dirty rectangle traced exactly (its cost not known beforehand: a small rectangle over a pile
+// of set operations) stops once it has taken more than its share of the dirty budget, and is shown
+// coarse instead; the finished frame is a full render's, byte for byte.
+TEST(FrameComposer, ADirtyRectangleThatOverrunsTheBudgetIsShownCoarseThenExact) {
+  ThreadPool pool(2);
+  FrameComposer fc(pool, kW, kH);
+  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
+  const CameraSpec home = benchCamera(m.workpiece().bounds(), kW, kH);
+  const ShadingParams sh = sheetOf("copper");
+  std::vector<Rect> changed;
+  fc.show(m, home, sh, {true, false, {}}, false);
+  // Nothing traced yet, so no speed is known and the stroke is traced exactly; a nanosecond's
+  // budget is overrun by anything.
+  fc.setDirtyBudget(1e-6);
+  ASSERT_TRUE(m.add(punch(0, 0)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  fc.work(1000.0, changed, true);
+  EXPECT_EQ(fc.counters().dirtyStopped, 1u);
+  EXPECT_EQ(fc.counters().coarseRects, 1u);
+  EXPECT_TRUE(fc.pending()) << "the exact pixels are still to come";
+  fc.flush(changed);
+  EXPECT_FALSE(fc.pending());
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh).rgba);
+}
+
 // Where coarse pictures cost more than the dirty budget (rays through a pile of set operations),
 // the next is coarser still: traced from fewer rays, and the finished frame is a full render's.
 TEST(FrameComposer, ACoarsePictureGoesCoarserWhereTheLastOneCostTooMuch) {

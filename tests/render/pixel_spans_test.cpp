@@ -52,6 +52,27 @@ TEST(PixelSpans, ABandIsItsRowsTrimmed) {
   EXPECT_EQ(s.band(0, 100).area(), 15);
 }
 
+TEST(PixelSpans, ASplitTakesWholeRowsThenTheLeftOfTheNext) {
+  PixelSpans s = PixelSpans::of({3, 10, 5, 4});
+  s.rows[1] = {};      // row 11 empty
+  s.rows[2] = {4, 6};  // row 12: two pixels
+  const auto [head, rest] = s.split(8);
+  // Row 10 (5 pixels), row 12 (2), then the first pixel of row 13.
+  EXPECT_EQ(head.area(), 8);
+  EXPECT_EQ(rest.area(), s.area() - 8);
+  EXPECT_TRUE(head.contains(3, 13) && !head.contains(4, 13));
+  EXPECT_TRUE(rest.contains(4, 13) && !rest.contains(3, 13));
+  EXPECT_EQ(rest.box.y, 13) << "the rows left empty are trimmed";
+  EXPECT_EQ(rest.box.h, 1);
+  EXPECT_EQ(head.box.h, 4);
+  for (int y = 10; y < 14; ++y)
+    for (int x = 0; x < 12; ++x) EXPECT_EQ(s.contains(x, y), head.contains(x, y) || rest.contains(x, y)) << x << "," << y;
+  EXPECT_TRUE(s.split(0).first.empty());
+  EXPECT_EQ(s.split(0).second.area(), s.area());
+  EXPECT_EQ(s.split(100).first.area(), s.area());
+  EXPECT_TRUE(s.split(100).second.empty());
+}
+
 TEST(PixelSpans, AHullKeepsThePixelsWithinAPixelOfIt) {
   SpanBuilder b(100, 100);
   const std::vector<glm::dvec2> square{{10, 5}, {20, 5}, {20, 15}, {10, 15}, {15, 10}};
