@@ -114,13 +114,7 @@ Baseline measureBaseline(ThreadPool& pool, bool quick) {
   return b;
 }
 
-ShadingParams shadingFor(const Model& m) {
-  ShadingParams s;
-  s.metal = *metalByName("copper");
-  s.tinge = *tingeByName("none");
-  s.frontZ = m.workpiece().bounds().z1;
-  return s;
-}
+ShadingParams shadingFor(const Model& m) { return sheetShading("copper", "none", m.workpiece().bounds().z1); }
 
 // Times the same window of the frame with the given options; returns ms and fills the stats.
 double timeWindow(Renderer& r, const RenderOptions& o, const Rect& window, Image& image, RenderStats& st) {

@@ -28,11 +28,7 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }
 
 ShadingParams shadingFor(const Scene& scene, const Model& model) {
-  ShadingParams s;
-  s.metal = *metalByName(scene.metal);
-  s.tinge = *tingeByName(scene.tinge);
-  s.frontZ = model.workpiece().bounds().z1;
-  return s;
+  return sheetShading(scene.metal, scene.tinge, model.workpiece().bounds().z1);
 }
 
 }  // namespace

@@ -420,6 +420,14 @@ const MetalTables& tablesFor(const Metal& m, ThreadPool* pool = nullptr) {
 
 }  // namespace
 
+ShadingParams sheetShading(std::string_view metal, std::string_view tinge, double frontZ) {
+  ShadingParams s;
+  s.metal = *metalByName(metal);
+  s.tinge = *tingeByName(tinge);
+  s.frontZ = frontZ;
+  return s;
+}
+
 glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& nIn, const glm::dvec3& view,
                       double cavity, const Patina* patina) {
   glm::dvec3 n = nIn;

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string_view>
 
 #include <glm/glm.hpp>
 
@@ -17,6 +18,9 @@ struct ShadingParams {
   double frontZ = 0.5;      // z of the untouched front face (the tinge gathers below it)
   double tingeDepth = 0.6;  // mm below the front face where the tinge is at full strength
 };
+// The shading of a sheet whose untouched front face is at frontZ, its metal and tinge by name
+// (names metalByName() and tingeByName() know).
+ShadingParams sheetShading(std::string_view metal, std::string_view tinge, double frontZ);
 
 // Linear RGB of a surface point seen along `view` (unit, from the eye) with unit normal `n`;
 // `cavity` (0 open metal .. 1 a deep groove, from cavityAt()) hides the lights and gathers the tinge.

@@ -183,10 +183,11 @@ struct PlateOnScreen {
   Model m{std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet};
   CameraSpec home = benchCamera(m.workpiece().bounds(), w, h);
   ShadingParams sh = sheetOf("copper");
-  PlateOnScreen() {
+  // `traced`: the first frame finished (its bands measure the tracing speed), else only shown.
+  explicit PlateOnScreen(bool traced = true) {
     std::vector<Rect> changed;
     fc.show(m, home, sh, {true, false, {}}, false);
-    fc.flush(changed);  // (the bands measure the tracing speed)
+    if (traced) fc.flush(changed);
   }
 };
 
@@ -244,13 +245,9 @@ TEST(FrameComposer, ABigDirtyRectangleIsShownCoarseThenExact) {
 // of set operations) stops once it has taken more than its share of the dirty budget, and is shown
 // coarse instead; the finished frame is a full render's, byte for byte.
 TEST(FrameComposer, ADirtyRectangleThatOverrunsTheBudgetIsShownCoarseThenExact) {
-  ThreadPool pool(2);
-  FrameComposer fc(pool, kW, kH);
-  Model m(std::make_shared<Plate>(60.0, 40.0, 0.5), Deformation::Sheet);
-  const CameraSpec home = benchCamera(m.workpiece().bounds(), kW, kH);
-  const ShadingParams sh = sheetOf("copper");
+  PlateOnScreen t(false);
+  auto& [pool, fc, m, home, sh] = t;
   std::vector<Rect> changed;
-  fc.show(m, home, sh, {true, false, {}}, false);
   // Nothing traced yet, so no speed is known and the stroke is traced exactly; a nanosecond's
   // budget is overrun by anything.
   fc.setDirtyBudget(1e-6);
@@ -262,7 +259,7 @@ TEST(FrameComposer, ADirtyRectangleThatOverrunsTheBudgetIsShownCoarseThenExact) 
   EXPECT_TRUE(fc.pending()) << "the exact pixels are still to come";
   fc.flush(changed);
   EXPECT_FALSE(fc.pending());
-  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh).rgba);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, PlateOnScreen::w, PlateOnScreen::h).rgba);
 }
 
 // Where coarse pictures cost more than the dirty budget (rays through a pile of set operations),

@@ -6,18 +6,10 @@
 
 #include "bench/piece_generator.h"
 #include "render/renderer.h"
-#include "tools/metal.h"
+#include "render/shading.h"
 
 namespace emboss {
 namespace {
-
-ShadingParams copper(const Model& m) {
-  ShadingParams s;
-  s.metal = *metalByName("copper");
-  s.tinge = *tingeByName("none");
-  s.frontZ = m.workpiece().bounds().z1;
-  return s;
-}
 
 TEST(RenderDeadline, AStoppedRenderIsFinishedByTheNextToTheSameBytes) {
   PieceOptions opt;
@@ -31,7 +23,7 @@ TEST(RenderDeadline, AStoppedRenderIsFinishedByTheNextToTheSameBytes) {
 
   Renderer reference(pool);
   reference.setCamera(camera);
-  reference.setShading(copper(model));
+  reference.setShading(sheetShading("copper", "none", model.workpiece().bounds().z1));
   reference.sync(model);
   Image expected;
   ASSERT_TRUE(reference.renderFull(expected));
@@ -41,7 +33,7 @@ TEST(RenderDeadline, AStoppedRenderIsFinishedByTheNextToTheSameBytes) {
   o.reuseHits = true;
   r.setOptions(o);
   r.setCamera(camera);
-  r.setShading(copper(model));
+  r.setShading(sheetShading("copper", "none", model.workpiece().bounds().z1));
   r.sync(model);
   Image image(camera.width(), camera.height());
   const Image blank = image;

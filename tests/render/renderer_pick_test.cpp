@@ -8,7 +8,7 @@
 #include "app/surface_pick.h"
 #include "bench/piece_generator.h"
 #include "render/renderer.h"
-#include "tools/metal.h"
+#include "render/shading.h"
 
 namespace emboss {
 namespace {
@@ -24,9 +24,7 @@ TEST(RendererPick, FindsTheModelsSurfaceAndDeclinesWhenBehind) {
   ThreadPool pool(2);
   Renderer r(pool);
   r.setCamera(camera);
-  ShadingParams sh;
-  sh.metal = *metalByName("copper");
-  r.setShading(sh);
+  r.setShading(sheetShading("copper", "none", model.workpiece().bounds().z1));
   r.sync(model);
   int both = 0, agree = 0;
   double worst = 0.0;
