@@ -1,0 +1,112 @@
+// Two of the renderer's calls for the kiosk: a render with a deadline stops there, as a cancelled
+// one does, and the rays it traced before keep their hits (the render after it gives the bytes of
+// a render never stopped); pick() finds the point on the ray through a pixel as the renderer
+// traces it, the model's surface within a few micrometres (pickSurface, on the model alone), and
+// declines when the renderer has not followed the model's last edit or looks through another
+// camera.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include <glm/geometric.hpp>
+
+#include "app/surface_pick.h"
+#include "bench/piece_generator.h"
+#include "render/renderer.h"
+#include "render/shading.h"
+
+namespace emboss {
+namespace {
+
+// A 60 x 40 mm plate 1 mm thick with a generated relief.
+GeneratedPiece smallPiece(int operations, unsigned seed) {
+  PieceOptions opt;
+  opt.width = 60, opt.height = 40, opt.halfThickness = 0.5;
+  return generatePiece(operations, seed, opt);
+}
+
+// r looking at the model through the camera, copper, in step with the model.
+void lookAt(Renderer& r, const Model& model, const Camera& camera) {
+  r.setCamera(camera);
+  r.setShading(sheetShading("copper", "none", model.workpiece().bounds().z1));
+  r.sync(model);
+}
+
+TEST(RenderDeadline, AStoppedRenderIsFinishedByTheNextToTheSameBytes) {
+  const GeneratedPiece piece = smallPiece(40, 23);
+  auto built = piece.makeModel();
+  ASSERT_TRUE(built.ok()) << built.error();
+  const Model& model = *built;
+  const Camera camera(piece.camera, 240, 160);
+  ThreadPool pool(2);
+
+  Renderer reference(pool);
+  lookAt(reference, model, camera);
+  Image expected;
+  ASSERT_TRUE(reference.renderFull(expected));
+
+  Renderer r(pool);
+  RenderOptions o;
+  o.reuseHits = true;
+  r.setOptions(o);
+  lookAt(r, model, camera);
+  Image image(camera.width(), camera.height());
+  const Image blank = image;
+  const PixelSpans all = PixelSpans::of(Rect{0, 0, camera.width(), camera.height()});
+  // A deadline already past: nothing is traced, and the image is as it was.
+  r.setDeadline(std::chrono::steady_clock::now());
+  RenderStats stopped;
+  EXPECT_FALSE(r.render(image, all, &stopped));
+  EXPECT_EQ(image.rgba, blank.rgba);
+  // Deadlines a little way off, each stopping somewhere in the frame (in either pass, or not at
+  // all on a fast machine); then none: the frame is finished, the hits kept by the rays traced
+  // before shaded again, and it is the frame never stopped, byte for byte.
+  for (int us : {100, 300, 1000}) {
+    r.setDeadline(std::chrono::steady_clock::now() + std::chrono::microseconds(us));
+    (void)r.render(image, all);
+  }
+  r.setDeadline(std::nullopt);
+  EXPECT_TRUE(r.render(image, all));
+  EXPECT_EQ(image.rgba, expected.rgba);
+}
+
+TEST(RendererPick, FindsTheModelsSurfaceAndDeclinesWhenBehind) {
+  const GeneratedPiece piece = smallPiece(60, 31);
+  auto built = piece.makeModel();
+  ASSERT_TRUE(built.ok()) << built.error();
+  Model& model = *built;
+  const Camera camera(piece.camera, 160, 100);
+  ThreadPool pool(2);
+  Renderer r(pool);
+  lookAt(r, model, camera);
+  int both = 0, agree = 0;
+  double worst = 0.0;
+  for (int y = 0; y < camera.height(); y += 3)
+    for (int x = 0; x < camera.width(); x += 3) {
+      const double sx = x + 0.37, sy = y + 0.61;
+      std::optional<glm::dvec3> hit;
+      ASSERT_TRUE(r.pick(model, camera, sx, sy, hit));
+      const auto want = pickSurface(model, camera, sx, sy);
+      agree += hit.has_value() == want.has_value();
+      if (hit && want) ++both, worst = std::max(worst, glm::length(*hit - *want));
+    }
+  const int n = ((camera.width() + 2) / 3) * ((camera.height() + 2) / 3);
+  EXPECT_GT(both, n / 4) << "the sheet fills a good part of the picture";
+  EXPECT_GE(agree, n - 3) << "a hit or a miss alike, but for a ray grazing the rim";
+  EXPECT_LT(worst, 0.02) << "mm from the model's surface";
+
+  // An edit the renderer has not followed yet: declined, until the next sync.
+  PieceRandom rng(5);
+  ASSERT_TRUE(model.add(randomPunch(rng, piece, 1.5)).ok());
+  std::optional<glm::dvec3> hit;
+  EXPECT_FALSE(r.pick(model, camera, 80, 50, hit));
+  r.sync(model);
+  EXPECT_TRUE(r.pick(model, camera, 80, 50, hit));
+  // Another camera, or another model: declined.
+  EXPECT_FALSE(r.pick(model, Camera(piece.camera, 320, 200), 80, 50, hit));
+  const Model other(model.workpiecePtr(), model.deformation());
+  EXPECT_FALSE(r.pick(other, camera, 80, 50, hit));
+}
+
+}  // namespace
+}  // namespace emboss
