@@ -15,6 +15,11 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The time `ms` milliseconds after t.
+std::chrono::steady_clock::time_point msAfter(std::chrono::steady_clock::time_point t, double ms) {
+  return t + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double, std::milli>(ms));
+}
+
 std::string cameraKey(const CameraSpec& c) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "%d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g", static_cast<int>(c.type),
@@ -375,10 +380,7 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
       // Traced exactly; where it costs far more than the speed promised (a pile of set operations
       // under a small rectangle), stopped and shown coarse instead (its rays traced so far kept).
       bool stopped = false;
-      const auto deadline = std::chrono::steady_clock::now() +
-                            std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                std::chrono::duration<double, std::milli>(kDirtyOverrun * dirtyMs_));
-      renderSpans(r, changed, true, deadline, &stopped);
+      renderSpans(r, changed, true, msAfter(std::chrono::steady_clock::now(), kDirtyOverrun * dirtyMs_), &stopped);
       if (stopped) {
         // (the dirty budget is spent: as coarse as a quarter of it allows)
         ++counters_.dirtyStopped;
@@ -396,8 +398,7 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
   // pictures cost a ray). A pixel can cost twenty times its neighbour's (a pile of set
   // operations beside flat metal): a band still unfinished at the end of the budget stops there,
   // and is traced again later, its rays traced so far shaded at their kept hits.
-  const auto budgetEnd = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                  std::chrono::duration<double, std::milli>(std::min(budgetMs, 1e9)));
+  const auto budgetEnd = msAfter(t0, std::min(budgetMs, 1e9));
   while (!coarse_.empty()) {
     const double left = budgetMs - msSince(t0);
     if (left <= 0) break;

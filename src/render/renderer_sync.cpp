@@ -291,16 +291,21 @@ void Renderer::syncSetOps(const Model& model) {
     kept.push_back(keep);
     setOps_.push_back(std::move(s));
   }
-  // The offsets that may reach each recomputed region, ascending: the same for every shift field
-  // under it (found once, not once a field).
+  // The offsets that may reach a box, ascending.
+  const auto offsetsIn = [&](const Box2& box, std::vector<std::uint32_t>& scratch) {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t j : grid_.in(box, scratch))
+      if (ops[j].op().isOffset()) out.push_back(j);
+    return out;
+  };
+  // Those of each recomputed region: the same for every shift field under it (found once, not
+  // once a field).
   std::vector<std::vector<std::uint32_t>> inRegion(fieldChanges_.size());
   {
     std::vector<std::uint32_t> scratch;
     for (size_t c = 0; c < fieldChanges_.size(); ++c) {
       const FieldChange& fc = fieldChanges_[c];
-      if (fc.append || fc.fieldRowsOnly || setOps_.empty()) continue;
-      for (std::uint32_t j : grid_.in(fc.region, scratch))
-        if (ops[j].op().isOffset()) inRegion[c].push_back(j);
+      if (!fc.append && !fc.fieldRowsOnly && !setOps_.empty()) inRegion[c] = offsetsIn(fc.region, scratch);
     }
   }
   const auto update = [&](size_t k, std::vector<std::uint32_t>& scratch, std::vector<const PreparedOp*>& list) {
@@ -332,10 +337,7 @@ void Renderer::syncSetOps(const Model& model) {
       }
     } else {
       f.configure(s.support, field_.spacing());
-      std::vector<std::uint32_t> offsets;
-      for (std::uint32_t j : grid_.in(s.support, scratch))
-        if (ops[j].op().isOffset()) offsets.push_back(j);
-      f.recompute(f.all(), after(offsets));
+      f.recompute(f.all(), after(offsetsIn(s.support, scratch)));
       f.finish(f.all());
     }
   };
