@@ -99,18 +99,19 @@ std::span<const std::uint32_t> OpGrid::at(double x, double y, std::vector<std::u
   return {list.data(), static_cast<size_t>(end - list.begin())};
 }
 
-std::span<const std::uint32_t> OpGrid::in(const Box2& box, std::vector<std::uint32_t>& scratch) const {
+std::span<const std::uint32_t> OpGrid::in(const Box2& box, std::vector<std::uint32_t>& scratch, std::uint32_t from) const {
   int cx0, cy0, cx1, cy1;
   if (cells_.empty() || !cellRange(box, cx0, cy0, cx1, cy1)) return {};
-  if (cx0 == cx1 && cy0 == cy1) return at(box.x0, box.y0, scratch);
+  if (cx0 == cx1 && cy0 == cy1) {
+    const std::span<const std::uint32_t> all = at(box.x0, box.y0, scratch);
+    return all.subspan(static_cast<size_t>(std::lower_bound(all.begin(), all.end(), from) - all.begin()));
+  }
   scratch.clear();
   for (int cy = cy0; cy <= cy1; ++cy)
     for (int cx = cx0; cx <= cx1; ++cx) {
       const auto& list = cells_[static_cast<size_t>(cy) * nx_ + cx];
-      for (std::uint32_t i : list) {
-        if (i >= activeCount_) break;
-        scratch.push_back(i);
-      }
+      for (auto it = std::lower_bound(list.begin(), list.end(), from); it != list.end() && *it < activeCount_; ++it)
+        scratch.push_back(*it);
     }
   std::sort(scratch.begin(), scratch.end());
   scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());

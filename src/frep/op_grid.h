@@ -26,8 +26,9 @@ class OpGrid {
   // The operations that may affect (x, y): ascending, active only. Exact superset of those whose
   // support contains the point.
   std::span<const std::uint32_t> at(double x, double y, std::vector<std::uint32_t>& scratch) const;
-  // The operations whose support may meet the box, ascending, active only, without duplicates.
-  std::span<const std::uint32_t> in(const Box2& box, std::vector<std::uint32_t>& scratch) const;
+  // The operations whose support may meet the box, ascending, active only, without duplicates;
+  // only those at index `from` or after (the rest of a pile left out before the sort).
+  std::span<const std::uint32_t> in(const Box2& box, std::vector<std::uint32_t>& scratch, std::uint32_t from = 0) const;
 
   double cellSize() const { return cell_; }
   size_t cellCount() const { return cells_.size(); }

@@ -44,6 +44,7 @@ void HeightField::configure(const Box2& domain, double spacing, bool cavity) {
   invS_ = 1.0 / spacing;
   x0_ = domain.x0;
   y0_ = domain.y0;
+  gx0_ = x0_, gy0_ = y0_, gi_ = 0, gj_ = 0;
   nx_ = std::max(2, static_cast<int>(std::ceil((domain.x1 - domain.x0) * invS_)) + 1);
   ny_ = std::max(2, static_cast<int>(std::ceil((domain.y1 - domain.y0) * invS_)) + 1);
   xMax_ = x0_ + (nx_ - 1) * s_;
@@ -78,6 +79,15 @@ void HeightField::configure(const Box2& domain, double spacing, bool cavity) {
   }
 }
 
+void HeightField::configureOn(const HeightField& lattice, const Box2& domain) {
+  const double s = lattice.s_, inv = lattice.invS_;
+  const int gi = static_cast<int>(std::floor((domain.x0 - lattice.gx0_) * inv));
+  const int gj = static_cast<int>(std::floor((domain.y0 - lattice.gy0_) * inv));
+  configure(Box2{lattice.gx0_ + gi * s, lattice.gy0_ + gj * s, domain.x1, domain.y1}, s);
+  invS_ = inv;
+  gx0_ = lattice.gx0_, gy0_ = lattice.gy0_, gi_ = gi, gj_ = gj;
+}
+
 void HeightField::clear() {
   nx_ = ny_ = 0;
   samples_.clear();
@@ -95,8 +105,9 @@ size_t HeightField::memoryBytes() const {
 
 HeightField::SampleRect HeightField::samplesIn(const Box2& b) const {
   if (b.empty() || !configured()) return {};
-  const double fi0 = std::ceil((b.x0 - x0_) * invS_), fi1 = std::floor((b.x1 - x0_) * invS_);
-  const double fj0 = std::ceil((b.y0 - y0_) * invS_), fj1 = std::floor((b.y1 - y0_) * invS_);
+  // (In the lattice's indices, then this field's: the same samples as the lattice's own rule.)
+  const double fi0 = std::ceil((b.x0 - gx0_) * invS_) - gi_, fi1 = std::floor((b.x1 - gx0_) * invS_) - gi_;
+  const double fj0 = std::ceil((b.y0 - gy0_) * invS_) - gj_, fj1 = std::floor((b.y1 - gy0_) * invS_) - gj_;
   if (fi1 < 0 || fj1 < 0 || fi0 > nx_ - 1 || fj0 > ny_ - 1) return {};
   SampleRect r;
   r.i0 = static_cast<int>(std::max(fi0, 0.0));
@@ -116,7 +127,16 @@ HeightField::SampleRect HeightField::grow(const SampleRect& r, int n) {
 
 HeightField::SampleRect HeightField::clamp(const SampleRect& r) const { return intersect(r, all()); }
 
-void HeightField::addTo(const PreparedOp& op, const SampleRect& r) {
+namespace {
+// A sample's sum continued by one offset (the same arithmetic wherever the offset was found).
+inline void addOffset(HeightField::Sample& s, const Grad& o) {
+  s.d = static_cast<float>(static_cast<double>(s.d) + o.v);
+  s.dx = static_cast<float>(static_cast<double>(s.dx) + o.dx);
+  s.dy = static_cast<float>(static_cast<double>(s.dy) + o.dy);
+}
+}  // namespace
+
+void HeightField::addTo(const PreparedOp& op, const SampleRect& r, OffsetValues* keep) {
   // A row at a time (the sheet's offsets do not depend on z): a path's nearest segments are found
   // for the whole row in SIMD lanes. Per thread: bands run on the pool.
   thread_local std::vector<double> xs;
@@ -128,12 +148,10 @@ void HeightField::addTo(const PreparedOp& op, const SampleRect& r) {
   for (int j = r.j0; j <= r.j1; ++j) {
     op.offsetRow(sampleY(j), xs.data(), n, g.data());
     Sample* row = &samples_[static_cast<size_t>(j) * nx_];
-    for (int i = r.i0; i <= r.i1; ++i) {
-      const Grad& o = g[static_cast<size_t>(i - r.i0)];
-      Sample& s = row[i];
-      s.d = static_cast<float>(static_cast<double>(s.d) + o.v);
-      s.dx = static_cast<float>(static_cast<double>(s.dx) + o.dx);
-      s.dy = static_cast<float>(static_cast<double>(s.dy) + o.dy);
+    for (int i = r.i0; i <= r.i1; ++i) addOffset(row[i], g[static_cast<size_t>(i - r.i0)]);
+    if (keep) {
+      const size_t w = static_cast<size_t>(keep->r.i1 - keep->r.i0 + 1);
+      std::copy_n(g.data(), n, &keep->g[static_cast<size_t>(j + gj_ - keep->r.j0) * w + static_cast<size_t>(r.i0 + gi_ - keep->r.i0)]);
     }
   }
 }
@@ -157,10 +175,39 @@ void forBands(const HeightField::SampleRect& r, ThreadPool* pool, int minRows, F
 
 void HeightField::add(const PreparedOp& op, ThreadPool* pool) { add(op, all(), pool); }
 
-void HeightField::add(const PreparedOp& op, const SampleRect& rows, ThreadPool* pool) {
+void HeightField::add(const PreparedOp& op, const SampleRect& rows, ThreadPool* pool, OffsetValues* keep) {
   if (!op.op().isOffset()) return;
   const SampleRect r = intersect(samplesIn(op.support()), rows);
-  if (!r.empty()) forBands(r, pool, 4, [&](const SampleRect& b) { addTo(op, b); });
+  if (r.empty()) return;
+  if (keep) {
+    const SampleRect l = toLattice(r);
+    const bool next = !keep->g.empty() && keep->x0 == gx0_ && keep->y0 == gy0_ && keep->s == s_ && keep->r.i0 == l.i0 &&
+                      keep->r.i1 == l.i1 && keep->r.j1 + 1 == l.j0;
+    if (next) {
+      keep->r.j1 = l.j1;
+    } else {
+      keep->x0 = gx0_, keep->y0 = gy0_, keep->s = s_;
+      keep->r = l;
+    }
+    keep->g.resize(static_cast<size_t>(keep->r.count()));
+  }
+  forBands(r, pool, 4, [&](const SampleRect& b) { addTo(op, b, keep); });
+}
+
+bool HeightField::add(const PreparedOp& op, const OffsetValues& values, const SampleRect& rows) {
+  if (!op.op().isOffset()) return true;
+  const SampleRect r = intersect(samplesIn(op.support()), rows);
+  if (r.empty()) return true;
+  const SampleRect v = values.r, l = toLattice(r);
+  if (values.x0 != gx0_ || values.y0 != gy0_ || values.s != s_) return false;
+  if (l.i0 < v.i0 || l.i1 > v.i1 || l.j0 < v.j0 || l.j1 > v.j1) return false;
+  const size_t w = static_cast<size_t>(v.i1 - v.i0 + 1);
+  for (int j = r.j0; j <= r.j1; ++j) {
+    const Grad* g = &values.g[static_cast<size_t>(j + gj_ - v.j0) * w + static_cast<size_t>(r.i0 + gi_ - v.i0)];
+    Sample* row = &samples_[static_cast<size_t>(j) * nx_];
+    for (int i = r.i0; i <= r.i1; ++i) addOffset(row[i], g[i - r.i0]);
+  }
+  return true;
 }
 
 void HeightField::recompute(const SampleRect& rIn, std::span<const PreparedOp* const> ops) {

@@ -52,14 +52,18 @@ class HeightField {
   // lower corner (so it depends on nothing but the domain). With `cavity`, the field also keeps the
   // shading's cavity depth per sample (cavityDepth()).
   void configure(const Box2& domain, double spacing, bool cavity = false);
+  // Sets up an all-zero lattice covering `domain` whose samples are samples of `lattice` (the same
+  // spacing, the same positions bit for bit: sampleX(i) is lattice.sampleX(i + its first column)),
+  // so values found on that lattice can be added here (add(const OffsetValues&)).
+  void configureOn(const HeightField& lattice, const Box2& domain);
   void clear();
   bool configured() const { return nx_ > 0; }
 
   double spacing() const { return s_; }
   int nx() const { return nx_; }
   int ny() const { return ny_; }
-  double sampleX(int i) const { return x0_ + i * s_; }
-  double sampleY(int j) const { return y0_ + j * s_; }
+  double sampleX(int i) const { return gx0_ + (i + gi_) * s_; }
+  double sampleY(int j) const { return gy0_ + (j + gj_) * s_; }
   size_t memoryBytes() const;
   // The box the interpolation covers: D is defined (by the field) inside it.
   Box2 domain() const { return {x0_, y0_, x0_ + (nx_ - 1) * s_, y0_ + (ny_ - 1) * s_}; }
@@ -74,12 +78,28 @@ class HeightField {
   static SampleRect grow(const SampleRect& r, int n);
   SampleRect clamp(const SampleRect& r) const;
 
+  // An offset's values (D and its slopes, before they are rounded into a sample) at the samples of
+  // a rectangle, in the lattice's indices; kept by add() for fields configureOn() that lattice.
+  struct OffsetValues {
+    double x0 = 0, y0 = 0, s = 0;  // the lattice: its origin and spacing
+    SampleRect r;
+    std::vector<Grad> g;  // row by row
+  };
   // Adds an offset operation's contribution to the samples inside its support (an append).
   // With a pool, rows of samples are shared out (every sample's arithmetic is the same).
   void add(const PreparedOp& op, ThreadPool* pool = nullptr);
   // The same over the samples of `rows` only (those of its support within it): an append made a
   // band of rows at a time; every sample gets the bits add() gives it.
-  void add(const PreparedOp& op, const SampleRect& rows, ThreadPool* pool = nullptr);
+  // With `keep`, the values added are also kept there (on this field's lattice): they extend the
+  // rows it holds when they are the next rows of the same columns, else replace them.
+  void add(const PreparedOp& op, const SampleRect& rows, ThreadPool* pool = nullptr, OffsetValues* keep = nullptr);
+  // Adds `values` (found for `op` on the lattice this field was configureOn()) to the samples of
+  // `rows` that add(op, rows) would change: the same bits. False (and nothing added) when they do
+  // not hold them all or were found on another lattice.
+  bool add(const PreparedOp& op, const OffsetValues& values, const SampleRect& rows);
+  // A rectangle of this field's samples in its lattice's indices, and back (clamped to this field).
+  SampleRect toLattice(const SampleRect& r) const { return {r.i0 + gi_, r.j0 + gj_, r.i1 + gi_, r.j1 + gj_}; }
+  SampleRect fromLattice(const SampleRect& r) const { return clamp({r.i0 - gi_, r.j0 - gj_, r.i1 - gi_, r.j1 - gj_}); }
   // Sets the samples of `r` to the sum of `ops` (the offsets that may reach r, ascending index).
   void recompute(const SampleRect& r, std::span<const PreparedOp* const> ops);
   // The samples of r as they are, and putting them back (then finish() over r): an append
@@ -131,7 +151,7 @@ class HeightField {
     std::vector<Node> nodes;
   };
   Sample& at(int i, int j) { return samples_[static_cast<size_t>(j) * nx_ + i]; }
-  void addTo(const PreparedOp& op, const SampleRect& r);
+  void addTo(const PreparedOp& op, const SampleRect& r, OffsetValues* keep = nullptr);
   void updateTwist(const SampleRect& r);
   void updateLeaves(int la0, int lb0, int la1, int lb1);
   void updateLevels(int la0, int lb0, int la1, int lb1);
@@ -145,6 +165,10 @@ class HeightField {
 
   double x0_ = 0, y0_ = 0, s_ = 1, invS_ = 1, xMax_ = 0, yMax_ = 0;
   int nx_ = 0, ny_ = 0;
+  // The samples' positions: sample (i, j) of this field is sample (i + gi_, j + gj_) of the lattice
+  // whose origin is (gx0_, gy0_) (itself, gi_ = gj_ = 0, unless configureOn() another).
+  double gx0_ = 0, gy0_ = 0;
+  int gi_ = 0, gj_ = 0;
   std::vector<Sample> samples_;
   std::vector<Level> levels_;  // 0: leaves of kBlock x kBlock cells; the last: one node
   // The cavity depth per sample (empty without `cavity`), and the ring's bilinear taps in samples

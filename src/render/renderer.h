@@ -133,6 +133,9 @@ class Renderer {
   PixelSpans continueField(double budgetMs);
   // An append over fewer field samples than this is added at once whatever fieldBandMs says.
   static constexpr long kFieldBandMinSamples = 16384;
+  // An append under set operations over at most this many field samples has its values kept for
+  // their shift fields (32 bytes a sample while sync() runs).
+  static constexpr long kSharedValuesMaxSamples = 1L << 19;
   // The pixels of the rows the last sync() added of an append that was still pending
   // (SyncInfo::pendingRows): to trace beside the new operations' dirtySpans().
   PixelSpans pendingSpans() const;
@@ -152,8 +155,15 @@ class Renderer {
     // changed; empty when none: their pixels are pendingSpans().
     Box2 pendingRows{0, 0, -1, -1};
     double pendingPeak = 0.0;
+    // Samples of the set operations' shift fields an append was added to (since the sync,
+    // continueField() included): from its values found once on the field's lattice, or evaluated
+    // by the shift field itself.
+    long shiftSamplesShared = 0, shiftSamplesComputed = 0;
   };
   const SyncInfo& lastSync() const { return lastSync_; }
+  // For tests: the set operations (in index order) and their shift fields (null: none).
+  size_t setOperationCount() const { return setOps_.size(); }
+  const HeightField* shiftField(size_t k) const { return setOps_[k].shift.get(); }
   // The bytes held for the model followed: the height field, the index, the set operations'
   // shift fields.
   size_t memoryBytes() const;
@@ -188,6 +198,10 @@ class Renderer {
     // The offsets after it, summed over its support: the shift that moves its tool with the
     // sheet, kept like D (same lattice spacing, same update rules, bit-exact).
     std::shared_ptr<HeightField> shift;
+    // Its samples under the last offset it added, when that was the model's last operation
+    // (savedId): put back when a live preview replaces that offset, as the field's are.
+    std::shared_ptr<HeightField::Saved> saved;
+    std::uint64_t savedId = 0;
   };
   // What a sync changed in the field, for the set operations' shift fields.
   struct FieldChange {
@@ -196,8 +210,18 @@ class Renderer {
     Box2 region;
     double peak = 0.0;    // how far the operation appended or removed moves the sheet at most
     const PreparedOp* op = nullptr;  // that operation, while sync() runs (null: not known)
-    // Only the field's rows of an append made a band at a time (the shift fields added it whole).
-    bool fieldRowsOnly = false;
+    // An append made a band of rows at a time (the field's pending append): only these rows of
+    // the field's lattice.
+    bool band = false;
+    HeightField::SampleRect rows{};
+    // The append's values on the field's lattice, found once for the shift fields under it.
+    std::shared_ptr<const HeightField::OffsetValues> values{};
+    // A recomputed region that is the field's last append (this operation id) put back: a shift
+    // field that saved its samples under it puts them back too.
+    std::uint64_t undoneId = 0;
+    // Appended right after such an undo: added by the shift fields that put theirs back, summed
+    // again by the others.
+    bool afterUndo = false;
   };
   // Forgets the kept hits these changes of the field can move (together they move the sheet by
   // at most the sum of their peaks).
@@ -208,12 +232,31 @@ class Renderer {
   void rebuildField(const Model& model);
   void recomputeField(const Model& model, const HeightField::SampleRect& r);
   void syncSetOps(const Model& model);
+  // Brings set operation s's shift field up to date with `changes` (`inRegion`: for each change
+  // that recomputes a region, the offsets that may reach it, ascending).
+  void followFieldChanges(SetOp& s, std::span<const FieldChange> changes,
+                          std::span<const std::vector<std::uint32_t>> inRegion, std::vector<const PreparedOp*>& list);
+  // Every shift field follows `changes` (in parallel), then the set operations' z ranges.
+  void followFieldChanges(std::span<const FieldChange> changes, std::span<const std::vector<std::uint32_t>> inRegion);
+  // Each set operation's z range from its tool and its shift field's bounds.
+  void refreshSetOpRanges();
+  // The offsets after set operation i among `candidates` (ascending) into `list`, the pending
+  // append left out (its rows are added as they come).
+  std::span<const PreparedOp* const> offsetsAfter(size_t i, std::span<const std::uint32_t> candidates,
+                                                  std::vector<const PreparedOp*>& list) const;
   // The box that holds every surface of the field tracer's function (fieldClip_).
   void updateFieldClip(const Model& model);
   double peakOf(const Operation& o) const;
   // Adds rows of the pending append for about `budgetMs` (at least eight), then their
   // twists, bounds and cavities (finish()); returns the rows added.
-  HeightField::SampleRect addPendingRows(double budgetMs);
+  // The rows of the field's lattice a band of the pending append stands for, for the shift
+  // fields (which can reach past the field's samples): its own, all before it for its first band,
+  // all after it for its last; every column.
+  HeightField::SampleRect bandRows(const HeightField::SampleRect& band) const;
+  // The box of those rows' samples, for the kept hits and the pixels they can change.
+  Box2 bandBox(const HeightField::SampleRect& band) const;
+  // The values added are kept in `keep` when given (HeightField::add()).
+  HeightField::SampleRect addPendingRows(double budgetMs, HeightField::OffsetValues* keep = nullptr);
   // The pixels that rows of samples in `box` can change, an operation moving the sheet by at most
   // `peak` there (as dirtySpans() for an offset).
   PixelSpans fieldRowsSpans(const Box2& box, double peak) const;
@@ -290,6 +333,7 @@ class Renderer {
     HeightField::Saved samples;
   };
   SavedSamples saved_;
+  std::atomic<long> shiftShared_{0}, shiftComputed_{0};  // followFieldChanges()' counts, summed into lastSync_
   // The last offset appended while it is added a band of rows at a time (fieldBandMs):
   // rows r.j0 .. nextRow - 1 of its samples hold it, the rest not yet.
   struct PendingAppend {
@@ -299,6 +343,7 @@ class Renderer {
     HeightField::SampleRect r;
     int nextRow = 0;
     double peak = 0.0;
+    bool share = false;  // under set operations: each band's values kept for their shift fields
   };
   PendingAppend pending_;
   int workpieceKind_ = 0;  // 1 plate, 2 disc, 3 bowl (known Lipschitz bounds), 4 outline sheet (2D vm), 0 other

@@ -161,10 +161,12 @@ void Renderer::syncField(const Model& model) {
     // put back or sum again the samples under it, its rows added so far and the rest alike.
     if (pending_.index < active && ids[pending_.index] == pending_.id && pending_.index + 1 == fieldIds_.size() &&
         fieldIds_.back() == pending_.id) {
-      const HeightField::SampleRect rest = addPendingRows(std::numeric_limits<double>::infinity());
-      const Box2 box{field_.sampleX(rest.i0), field_.sampleY(rest.j0), field_.sampleX(rest.i1), field_.sampleY(rest.j1)};
+      auto values = pending_.share ? std::make_shared<HeightField::OffsetValues>() : nullptr;
+      const HeightField::SampleRect rest = addPendingRows(std::numeric_limits<double>::infinity(), values.get());
+      const Box2 box = bandBox(rest);
       lastSync_.samplesUpdated += rest.count();
-      fieldChanges_.push_back({false, 0, box, pending_.peak, nullptr, true});
+      fieldChanges_.push_back({.append = true, .index = static_cast<std::uint32_t>(pending_.index), .region = box, .peak = pending_.peak,
+                               .band = true, .rows = bandRows(rest), .values = std::move(values)});
       lastSync_.pendingRows = box, lastSync_.pendingPeak = pending_.peak;
     }
     pending_.active = false;
@@ -184,19 +186,28 @@ void Renderer::syncField(const Model& model) {
           saved_.id = ids[i];
           saved_.valid = true;
         }
+        // Under set operations its values are found once, for their shift fields too.
+        const auto under = [&](const SetOp& s) { return s.shift && s.shift->configured() && s.shift->domain().overlaps(op.support()); };
+        const bool share = r.count() <= kSharedValuesMaxSamples && std::any_of(setOps_.begin(), setOps_.end(), under);
+        auto values = share ? std::make_shared<HeightField::OffsetValues>() : nullptr;
+        FieldChange change{.append = appended, .index = static_cast<std::uint32_t>(i), .region = op.support(), .peak = peakOf(op.op()),
+                           .op = &op, .afterUndo = !appended};
         if (i + 1 == active && op.op().kind == OpKind::Region && options_.fieldBandMs > 0 && r.count() > kFieldBandMinSamples &&
             usesField()) {
           // A big raised region: its first rows now, the rest by continueField(). (Only regions:
-          // a stroke's live preview is replaced at every pen event, and must show whole.)
-          pending_ = {true, ids[i], i, r, r.j0, peakOf(op.op())};
-          lastSync_.samplesUpdated += addPendingRows(options_.fieldBandMs).count();
+          // a stroke's live preview is replaced at every pen event, and must show whole.) The
+          // shift fields follow it a band at a time.
+          pending_ = {true, ids[i], i, r, r.j0, peakOf(op.op()), share};
+          const HeightField::SampleRect done = addPendingRows(options_.fieldBandMs, values.get());
+          lastSync_.samplesUpdated += done.count();
+          change.band = true, change.rows = bandRows(done);
         } else {
-          field_.add(op, &pool_);
+          field_.add(op, field_.all(), &pool_, values.get());
           field_.finish(r, &pool_);
           lastSync_.samplesUpdated += r.count();
         }
-        // (The set operations' shift fields add it whole; the kept hits under it are forgotten.)
-        fieldChanges_.push_back({appended, static_cast<std::uint32_t>(i), op.support(), peakOf(op.op()), &op});
+        change.values = std::move(values);
+        fieldChanges_.push_back(std::move(change));
       }
       fieldIds_.push_back(ids[i]);
       fieldSupports_.push_back(op.support());
@@ -215,8 +226,8 @@ void Renderer::syncField(const Model& model) {
     field_.restore(saved_.samples);
     const HeightField::SampleRect old = saved_.samples.r;
     // (The operation undone is still the model's, at index p, until another replaces it.)
-    fieldChanges_.push_back({false, 0, fieldSupports_.back(), fieldPeaks_.back(),
-                             p < ops.size() && ids[p] == fieldIds_.back() ? &ops[p] : nullptr});
+    fieldChanges_.push_back({.append = false, .index = 0, .region = fieldSupports_.back(), .peak = fieldPeaks_.back(),
+                             .op = p < ops.size() && ids[p] == fieldIds_.back() ? &ops[p] : nullptr, .undoneId = fieldIds_.back()});
     fieldIds_.pop_back();
     fieldSupports_.pop_back();
     fieldPeaks_.pop_back();
@@ -286,15 +297,15 @@ void Renderer::syncSetOps(const Model& model) {
     s.support = op.support();
     while (reuse < old.size() && old[reuse].id != s.id) ++reuse;
     const bool keep = fieldReady_ && reuse < old.size() && old[reuse].shift && !lastSync_.rebuilt;
-    if (keep) s.shift = std::move(old[reuse].shift);
+    if (keep) s.shift = std::move(old[reuse].shift), s.saved = std::move(old[reuse].saved), s.savedId = old[reuse].savedId;
     else if (fieldReady_) s.shift = std::make_shared<HeightField>();
     kept.push_back(keep);
     setOps_.push_back(std::move(s));
   }
-  // The offsets that may reach a box, ascending.
-  const auto offsetsIn = [&](const Box2& box, std::vector<std::uint32_t>& scratch) {
+  // The offsets at index `from` or after that may reach a box, ascending.
+  const auto offsetsIn = [&](const Box2& box, std::vector<std::uint32_t>& scratch, std::uint32_t from) {
     std::vector<std::uint32_t> out;
-    for (std::uint32_t j : grid_.in(box, scratch))
+    for (std::uint32_t j : grid_.in(box, scratch, from))
       if (ops[j].op().isOffset()) out.push_back(j);
     return out;
   };
@@ -305,58 +316,122 @@ void Renderer::syncSetOps(const Model& model) {
     std::vector<std::uint32_t> scratch;
     for (size_t c = 0; c < fieldChanges_.size(); ++c) {
       const FieldChange& fc = fieldChanges_[c];
-      if (!fc.append && !fc.fieldRowsOnly && !setOps_.empty()) inRegion[c] = offsetsIn(fc.region, scratch);
+      if (!fc.append && !setOps_.empty()) inRegion[c] = offsetsIn(fc.region, scratch, setOps_.front().index + 1);
     }
   }
-  const auto update = [&](size_t k, std::vector<std::uint32_t>& scratch, std::vector<const PreparedOp*>& list) {
-    SetOp& s = setOps_[k];
-    if (!s.shift) return;
-    const size_t i = s.index;
-    // The offsets after set operation i among `candidates` (ascending), ascending.
-    auto after = [&](std::span<const std::uint32_t> candidates) {
-      list.clear();
-      for (auto it = std::upper_bound(candidates.begin(), candidates.end(), static_cast<std::uint32_t>(i)); it != candidates.end(); ++it)
-        list.push_back(&ops[*it]);
-      return std::span<const PreparedOp* const>(list);
-    };
-    HeightField& f = *s.shift;
-    if (kept[k]) {
-      // Follow the field's changes: appended offsets add, recomputed regions are summed again.
-      for (size_t ci = 0; ci < fieldChanges_.size(); ++ci) {
-        const FieldChange& c = fieldChanges_[ci];
-        if (c.fieldRowsOnly || !c.region.overlaps(s.support)) continue;
-        const HeightField::SampleRect r = f.samplesIn(c.region);
-        if (r.empty()) continue;
-        if (c.append) {
-          if (c.index <= i) continue;
-          f.add(ops[c.index]);
-        } else {
-          f.recompute(r, after(inRegion[ci]));
-        }
-        f.finish(r);
-      }
-    } else {
-      f.configure(s.support, field_.spacing());
-      f.recompute(f.all(), after(offsetsIn(s.support, scratch)));
-      f.finish(f.all());
-    }
-  };
   if (!setOps_.empty()) {
     pool_.parallelFor2D(Rect{0, 0, static_cast<int>(setOps_.size()), 1}, 1, [&](const Rect& t) {
       std::vector<std::uint32_t> scratch;
       std::vector<const PreparedOp*> list;
-      for (int k = t.x; k < t.x + t.w; ++k) update(static_cast<size_t>(k), scratch, list);
+      for (int k = t.x; k < t.x + t.w; ++k) {
+        SetOp& s = setOps_[static_cast<size_t>(k)];
+        if (!s.shift) continue;
+        if (kept[static_cast<size_t>(k)]) {
+          followFieldChanges(s, fieldChanges_, inRegion, list);
+          continue;
+        }
+        // Made afresh: the offsets after it, and the rows of the pending append added so far.
+        HeightField& f = *s.shift;
+        f.configureOn(field_, s.support);
+        f.recompute(f.all(), offsetsAfter(s.index, offsetsIn(f.domain(), scratch, s.index + 1), list));
+        if (pending_.active && pending_.index > s.index) {
+          const HeightField::SampleRect& r = pending_.r;
+          f.add(ops[pending_.index], f.fromLattice(bandRows({r.i0, r.j0, r.i1, pending_.nextRow - 1})));
+        }
+        f.finish(f.all());
+      }
     });
   }
+  refreshSetOpRanges();
+  lastSync_.shiftSamplesShared += shiftShared_.exchange(0), lastSync_.shiftSamplesComputed += shiftComputed_.exchange(0);
+  if (fieldReady_) updateFieldClip(model);
+}
+
+std::span<const PreparedOp* const> Renderer::offsetsAfter(size_t i, std::span<const std::uint32_t> candidates,
+                                                          std::vector<const PreparedOp*>& list) const {
+  const auto& ops = model_->operations();
+  list.clear();
+  for (auto it = std::upper_bound(candidates.begin(), candidates.end(), static_cast<std::uint32_t>(i)); it != candidates.end(); ++it)
+    if (!(pending_.active && *it == pending_.index)) list.push_back(&ops[*it]);
+  return list;
+}
+
+void Renderer::followFieldChanges(SetOp& s, std::span<const FieldChange> changes,
+                                  std::span<const std::vector<std::uint32_t>> inRegion, std::vector<const PreparedOp*>& list) {
+  long shared = 0, computed = 0;
+  // Appended offsets add (their values found once on the field's lattice, where they were kept),
+  // recomputed regions are summed again, or put back where the field's last append was undone
+  // and this field saved its samples under it. The pending append's rows come as the field's do.
+  const auto& ops = model_->operations();
+  const auto& ids = model_->operationIds();
+  const size_t active = model_->activeCount();
+  HeightField& f = *s.shift;
+  const size_t i = s.index;
+  auto addRows = [&](const FieldChange& c) {
+    const PreparedOp& op = ops[c.index];
+    const HeightField::SampleRect rows = c.band ? f.fromLattice(c.rows) : f.all();
+    const HeightField::SampleRect r = HeightField::intersect(f.samplesIn(op.support()), rows);
+    if (c.values && f.add(op, *c.values, rows)) {
+      shared += r.count();
+    } else {
+      f.add(op, rows);
+      computed += r.count();
+    }
+    return r;
+  };
+  bool putBack = false;
+  for (size_t ci = 0; ci < changes.size(); ++ci) {
+    const FieldChange& c = changes[ci];
+    // (The field's lattice reaches up to a sample past the set operation's support: those
+    // samples shape the patches inside it.)
+    if (!c.region.overlaps(f.domain())) continue;
+    HeightField::SampleRect r = f.samplesIn(c.region);
+    if (r.empty() && !c.band) continue;
+    if (c.undoneId != 0 && s.savedId == c.undoneId) {
+      f.restore(*s.saved);
+      r = s.saved->r;
+      s.savedId = 0;
+      putBack = true;
+    } else if (c.append || (c.afterUndo && putBack)) {
+      if (c.index <= i) continue;
+      // (Not a big region's band: a live preview replaced at the next pen event is a stroke.)
+      if (c.index + 1 == active && !c.band) {
+        if (!s.saved) s.saved = std::make_shared<HeightField::Saved>();
+        f.save(HeightField::intersect(f.samplesIn(ops[c.index].support()), f.all()), *s.saved);
+        s.savedId = ids[c.index];
+      }
+      r = addRows(c);
+    } else {
+      const std::span<const std::uint32_t> candidates = ci < inRegion.size() ? inRegion[ci] : std::span<const std::uint32_t>();
+      f.recompute(r, offsetsAfter(i, candidates, list));
+      // The pending append's own rows, where this is it (after an undo this field could not put back).
+      if (c.band && c.index > i && pending_.active && c.index == pending_.index) addRows(c);
+    }
+    if (!r.empty()) f.finish(r);
+  }
+  shiftShared_ += shared, shiftComputed_ += computed;
+}
+
+void Renderer::followFieldChanges(std::span<const FieldChange> changes, std::span<const std::vector<std::uint32_t>> inRegion) {
+  if (setOps_.empty()) return;
+  pool_.parallelFor2D(Rect{0, 0, static_cast<int>(setOps_.size()), 1}, 1, [&](const Rect& t) {
+    std::vector<const PreparedOp*> list;
+    for (int k = t.x; k < t.x + t.w; ++k)
+      if (SetOp& s = setOps_[static_cast<size_t>(k)]; s.shift) followFieldChanges(s, changes, inRegion, list);
+  });
+  refreshSetOpRanges();
+  lastSync_.shiftSamplesShared += shiftShared_.exchange(0), lastSync_.shiftSamplesComputed += shiftComputed_.exchange(0);
+}
+
+void Renderer::refreshSetOpRanges() {
   for (SetOp& s : setOps_) {
-    const Operation& o = ops[s.index].op();
+    const Operation& o = model_->operations()[s.index].op();
     const HeightField::Bound shift = s.shift ? s.shift->rootBound() : HeightField::Bound{};
     const Box3 tb = o.tool.bounds();
     const double reach = kernels::kSupportSpan * o.tool.size();
     s.zlo = tb.z0 - reach + shift.lo;
     s.zhi = tb.z1 + reach + shift.hi;
   }
-  if (fieldReady_) updateFieldClip(model);
 }
 
 void Renderer::updateFieldClip(const Model& model) {
@@ -370,12 +445,13 @@ void Renderer::updateFieldClip(const Model& model) {
   fieldClip_ = {clip.x0 - m, clip.y0 - m, clip.z0 - m, clip.x1 + m, clip.y1 + m, clip.z1 + m};
 }
 
-HeightField::SampleRect Renderer::addPendingRows(double budgetMs) {
+HeightField::SampleRect Renderer::addPendingRows(double budgetMs, HeightField::OffsetValues* keep) {
   // The rows of the operation (each sample the bits a whole add() gives it: a row's lanes are the
   // same whatever the band), then finish() over them: the twists, leaves and cavities around the
   // rows read the rows beside them, so the rows of the band before are refreshed again and the
   // last band leaves every one as a whole add() and finish() do. First kMinRows rows, then as many
-  // more as the time they took says fit in the budget (finish() costs about 0.7 of the adding).
+  // more as the time they took says fit in the budget (finish() costs about 0.7 of the adding), at
+  // most doubling the rows each time.
   constexpr int kMinRows = 8;
   const HeightField::SampleRect& r = pending_.r;
   const PreparedOp& op = model_->operations()[pending_.index];
@@ -384,17 +460,36 @@ HeightField::SampleRect Renderer::addPendingRows(double budgetMs) {
   int rows = kMinRows;
   while (done.j1 < r.j1) {
     const HeightField::SampleRect band{r.i0, done.j1 + 1, r.i1, std::min(r.j1, done.j1 + rows)};
-    field_.add(op, band, &pool_);
+    field_.add(op, band, &pool_, keep);
     done.j1 = band.j1;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    const double perRow = ms / (done.j1 - done.j0 + 1), left = budgetMs / 1.7 - ms;
+    const int n = done.j1 - done.j0 + 1;
+    const double perRow = ms / n, left = budgetMs / 1.7 - ms;
     if (!(left >= kMinRows * perRow)) break;
-    rows = static_cast<int>(std::min(left / perRow, 1e6));
+    // (At most as many rows again: a region's first rows, mostly outside its contour, can cost
+    // a fraction of those through its middle.)
+    rows = static_cast<int>(std::min({left / perRow, 1e6, static_cast<double>(n)}));
   }
   field_.finish(done, &pool_);
   pending_.nextRow = done.j1 + 1;
   if (pending_.nextRow > r.j1) pending_.active = false;
   return done;
+}
+
+HeightField::SampleRect Renderer::bandRows(const HeightField::SampleRect& band) const {
+  constexpr int kFar = 1 << 29;
+  const HeightField::SampleRect l = field_.toLattice(band);
+  return {-kFar, band.j0 <= pending_.r.j0 ? -kFar : l.j0, kFar, band.j1 >= pending_.r.j1 ? kFar : l.j1};
+}
+
+Box2 Renderer::bandBox(const HeightField::SampleRect& band) const {
+  // (The shift fields' samples past the field's, where the append's support reaches there.)
+  const Box2 s = model_->operations()[pending_.index].support();
+  Box2 b{field_.sampleX(band.i0), field_.sampleY(band.j0), field_.sampleX(band.i1), field_.sampleY(band.j1)};
+  b.x0 = std::min(b.x0, s.x0), b.x1 = std::max(b.x1, s.x1);
+  if (band.j0 <= pending_.r.j0) b.y0 = std::min(b.y0, s.y0);
+  if (band.j1 >= pending_.r.j1) b.y1 = std::max(b.y1, s.y1);
+  return b;
 }
 
 PixelSpans Renderer::continueField(double budgetMs) {
@@ -403,10 +498,16 @@ PixelSpans Renderer::continueField(double budgetMs) {
     pending_.active = false;  // (sync() was not called after the model changed: it will see to it)
     return {};
   }
-  const HeightField::SampleRect band = addPendingRows(budgetMs);
-  // The kept hits the band can move, and the box of every surface.
-  const Box2 box{field_.sampleX(band.i0), field_.sampleY(band.j0), field_.sampleX(band.i1), field_.sampleY(band.j1)};
-  forgetHitsNear({FieldChange{false, 0, box, pending_.peak, nullptr, true}});
+  auto values = pending_.share ? std::make_shared<HeightField::OffsetValues>() : nullptr;
+  const size_t index = pending_.index;
+  const HeightField::SampleRect band = addPendingRows(budgetMs, values.get());
+  // The shift fields under the band follow it; the kept hits it can move are forgotten, and the
+  // box of every surface found again.
+  const Box2 box = bandBox(band);
+  const std::vector<FieldChange> changes{{.append = true, .index = static_cast<std::uint32_t>(index), .region = box, .peak = pending_.peak,
+                                          .band = true, .rows = bandRows(band), .values = std::move(values)}};
+  followFieldChanges(changes, {});
+  forgetHitsNear(changes);
   updateFieldClip(*model_);
   return fieldRowsSpans(box, pending_.peak);
 }
