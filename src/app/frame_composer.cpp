@@ -291,16 +291,37 @@ void FrameComposer::traceCoarse(const PixelSpans& spans, std::vector<Rect>& chan
   while (!coarseScaleHeld_ && scale < kMaxCoarseScale &&
          static_cast<double>(std::get<2>(lowRect(scale)).area()) * coarseMsPerPx_ > budgetMs)
     ++scale;
-  const auto [lw, lh, low] = lowRect(scale);
+  auto [lw, lh, low] = lowRect(scale);
   const auto t0 = std::chrono::steady_clock::now();
   renderer_->setCamera(Camera(camera_, lw, lh));
   RenderStats st;
-  renderer_->render(low_, low, &st);
-  renderer_->setCamera(Camera(camera_, w_, h_));
-  const double perPx = msSince(t0) / std::max(1.0, static_cast<double>(low.area()));
-  coarseMsPerPx_ = coarseMsPerPx_ > 0 ? 0.5 * (coarseMsPerPx_ + perPx) : perPx;
+  // The last coarse pictures' cost can be far from this one's (a pile of set operations grows
+  // under the pen, rays through it cost ten times a plain sheet's): a picture that overruns its
+  // budget stops, and the coarsest scale's is shown instead (a sixteenth of the rays a picture at
+  // scale 4 traces). Not with a held scale (tests), whose pictures must not depend on the clock.
+  if (!coarseScaleHeld_ && scale < kMaxCoarseScale)
+    renderer_->setDeadline(msAfter(t0, kCoarseOverrun * std::max(budgetMs, minCoarseMs_)));
+  // One ray a pixel: enlarged, an edge's extra rays show nothing.
+  renderer_->setAntialias(false);
+  const bool done = renderer_->render(low_, low, &st);
+  renderer_->setDeadline(std::nullopt);
+  const double ms = msSince(t0);
+  // A low pixel's cost: over the picture's pixels, or over the rays it traced when it stopped.
+  const double perPx = done ? ms / std::max(1.0, static_cast<double>(low.area()))
+                            : ms / std::max(1.0, static_cast<double>(st.rays));
+  coarseMsPerPx_ = !done ? std::max(coarseMsPerPx_, perPx) : coarseMsPerPx_ > 0 ? 0.5 * (coarseMsPerPx_ + perPx) : perPx;
   // Its exact pixels will cost about what a coarse ray cost here (at least).
   bandMsPerPx_ = std::max(bandMsPerPx_, perPx);
+  if (!done) {
+    ++counters_.coarseStopped;
+    std::tie(lw, lh, low) = lowRect(kMaxCoarseScale);
+    renderer_->setCamera(Camera(camera_, lw, lh));
+    renderer_->render(low_, low, &st);
+    scale = kMaxCoarseScale;
+  }
+  renderer_->setAntialias(true);
+  renderer_->setCamera(Camera(camera_, w_, h_));
+  lastCoarseScale_ = scale;
   counters_.render += st;
   enlarge(lw, lh, spans);
   ++counters_.coarseRects;
@@ -327,7 +348,8 @@ void FrameComposer::preview(std::vector<Rect>& changed) {
   changed.push_back({0, 0, w_, h_});
 }
 
-void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone, bool mayWait) {
+void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone, bool mayWait,
+                         std::optional<std::chrono::steady_clock::time_point> presentBy) {
   waiting_ = false;
   if (!model_ || !cameraSet_) return;
   const auto t0 = std::chrono::steady_clock::now();
@@ -366,25 +388,32 @@ void FrameComposer::work(double budgetMs, std::vector<Rect>& changed, bool dirty
   long area = 0;
   for (const PixelSpans& r : dirty) area += r.area();
   const double speed = dirtySpeed();
-  const bool tooSlow = speed > 0 && area > dirtyMs_ * speed;
+  // The dirty budget, less what the step has spent of its frame (an exact trace that overruns
+  // it and its coarse picture after fit in what is left).
+  const auto tDirty = std::chrono::steady_clock::now();
+  const double dirtyMs =
+      presentBy ? std::clamp(-msSince(*presentBy) / (kDirtyOverrun + 0.25), minDirtyMs_, std::max(dirtyMs_, minDirtyMs_))
+              : dirtyMs_;
+  const bool tooSlow = speed > 0 && area > dirtyMs * speed;
   bool anyCoarse = false;
   for (const PixelSpans& r : dirty) {
     ++counters_.dirtyRects;
     counters_.dirtyPixels += static_cast<std::uint64_t>(r.area());
-    if (tooSlow && r.area() > 0.25 * dirtyMs_ * speed) {
-      // Shown coarse now, exactly a band of its rows at a time next.
-      traceCoarse(r, changed, dirtyMs_);
+    if (tooSlow && r.area() > 0.25 * dirtyMs * speed) {
+      // Shown coarse now, exactly a band of its rows at a time next (within what is left of the
+      // dirty budget: two big rectangles share it).
+      traceCoarse(r, changed, dirtyMs - msSince(tDirty));
       coarse_.push_back(r);
       anyCoarse = true;
     } else {
       // Traced exactly; where it costs far more than the speed promised (a pile of set operations
       // under a small rectangle), stopped and shown coarse instead (its rays traced so far kept).
       bool stopped = false;
-      renderSpans(r, changed, true, msAfter(std::chrono::steady_clock::now(), kDirtyOverrun * dirtyMs_), &stopped);
+      renderSpans(r, changed, true, msAfter(std::chrono::steady_clock::now(), kDirtyOverrun * dirtyMs), &stopped);
       if (stopped) {
         // (the dirty budget is spent: as coarse as a quarter of it allows)
         ++counters_.dirtyStopped;
-        traceCoarse(r, changed, 0.25 * dirtyMs_);
+        traceCoarse(r, changed, 0.25 * dirtyMs);
         coarse_.push_back(r);
         anyCoarse = true;
       }

@@ -53,7 +53,11 @@ class FrameComposer {
   // the stroke is presented before any refinement). `mayWait` (attract mode, on a fixed grid of
   // ticks): dirty rectangles wait for a call with at least kWaitUnlessMs of budget, the start of
   // a period, so that they do not make the next tick late; bands are sized with a margin.
-  void work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone = false, bool mayWait = false);
+  // `presentBy` (a visitor drawing: the step's start and a frame): the time the dirty rectangles
+  // are to be on the screen by. What the step spent before the call (a raised region's field over
+  // a pile of set operations) comes off the dirty budget; past it a coarse picture is shown.
+  void work(double budgetMs, std::vector<Rect>& changed, bool dirtyAlone = false, bool mayWait = false,
+            std::optional<std::chrono::steady_clock::time_point> presentBy = std::nullopt);
   // The last work() left its work for the start of the next period (mayWait): nothing to do
   // until then.
   bool waiting() const { return waiting_; }
@@ -81,6 +85,16 @@ class FrameComposer {
   // A coarse dirty rectangle is traced at the preview's scale, or coarser (up to this) where the
   // last coarse traces say it would not fit in the dirty budget.
   static constexpr int kMaxCoarseScale = 16;
+  // A coarse picture stops after this many times its budget (at least kMinCoarseMs), and the
+  // picture at kMaxCoarseScale is shown instead.
+  static constexpr double kCoarseOverrun = 1.25;
+  static constexpr double kMinCoarseMs = 1.0;
+  // The least of the dirty budget that work()'s presentBy leaves.
+  static constexpr double kMinDirtyMs = 1.0;
+  // Those two least times, for tests (a nanosecond: every trace stops; a long time: none does).
+  void setLeastBudgets(double dirtyMs, double coarseMs) { minDirtyMs_ = dirtyMs, minCoarseMs_ = coarseMs; }
+  // The scale of the last coarse picture (kMaxCoarseScale after one stopped).
+  int lastCoarseScale() const { return lastCoarseScale_; }
   bool refining() const { return nextBand_ < h_; }
 
   const Image& frame() const { return frame_; }
@@ -99,6 +113,7 @@ class FrameComposer {
     std::uint64_t fieldRebuilds = 0;  // a model's height field built from scratch
     std::uint64_t bandsStopped = 0;   // exact bands of coarse rectangles stopped at the budget's end
     std::uint64_t dirtyStopped = 0;   // dirty rectangles stopped at kDirtyOverrun and shown coarse
+    std::uint64_t coarseStopped = 0;  // coarse pictures stopped at kCoarseOverrun (the coarsest shown)
     double lastPreviewMs = 0;
     RenderStats render;
   };
@@ -110,7 +125,8 @@ class FrameComposer {
   // The frame's pixels in r from low_, a picture of the same view scaled to lw x lh (bilinear).
   void enlarge(int lw, int lh, const PixelSpans& r);
   // r traced at the preview's scale, or coarser when that would cost more than budgetMs, and
-  // enlarged into the frame.
+  // enlarged into the frame; one ray a low pixel. Stopped past kCoarseOverrun budgets, and the
+  // picture at kMaxCoarseScale enlarged instead.
   void traceCoarse(const PixelSpans& r, std::vector<Rect>& changed, double budgetMs);
   // Traces r into the frame (ms); `onPiece`: a dirty rectangle's pixels, which set the speed the
   // dirty budget is judged by.
@@ -163,6 +179,8 @@ class FrameComposer {
   int previewScale_ = 3;
   bool coarseScaleHeld_ = false;
   double coarseMsPerPx_ = 0;  // what the last coarse traces cost a pixel of theirs (0: none yet)
+  int lastCoarseScale_ = 0;
+  double minDirtyMs_ = kMinDirtyMs, minCoarseMs_ = kMinCoarseMs;
   // What the next exact band of coarse_ is expected to cost a pixel: what the band before cost,
   // or at first the dearest coarse ray since (0: nothing pending).
   double bandMsPerPx_ = 0;

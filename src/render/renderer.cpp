@@ -196,7 +196,8 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   // centre sample, or, where it differs from a neighbour's (an edge: the sheet against the
   // backdrop, a crease), from two more rays inside it. A pixel's bytes so depend on its own and
   // its four neighbours' rays only: dirtySpans() grows by one pixel for it.
-  const PixelSpans ringSpans = spans.grown(1, w, h);
+  const bool antialias = antialias_;
+  const PixelSpans ringSpans = spans.grown(antialias ? 1 : 0, w, h);
   const Rect ring = ringSpans.box;
   // Per pixel of the ring's box: the centre sample's linear colour and its normal (zero: no hit),
   // written by the first pass for every pixel it traces; the second reads a colour and a normal
@@ -265,7 +266,9 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     const size_t i = at(x, y);
     const bool hit = hits[i] != 0;
     bool edge = false;
-    if (x > ring.x && y > ring.y && x + 1 < ring.x + ring.w && y + 1 < ring.y + ring.h) {
+    if (!antialias) {
+      // (one ray a pixel: no neighbour read)
+    } else if (x > ring.x && y > ring.y && x + 1 < ring.x + ring.w && y + 1 < ring.y + ring.h) {
       // All four neighbours in the ring (nearly every pixel): the same test, unrolled.
       const size_t l = i - 1, r = i + 1, u = i - static_cast<size_t>(ring.w), d = i + static_cast<size_t>(ring.w);
       if (!hit) {
@@ -287,7 +290,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     }
     std::uint8_t* px = image.pixel(x, y);
     if (!edge && !hit) {
-      const std::uint8_t* bd = &backdrop_[(static_cast<size_t>(y) * w + x) * 3];
+      const std::uint8_t* bd = &backdrops_[0].bytes[(static_cast<size_t>(y) * w + x) * 3];
       px[0] = bd[0], px[1] = bd[1], px[2] = bd[2];
     } else {
       glm::dvec3 c = hit ? glm::dvec3(centre[i]) : glm::dvec3(glm::vec3(backdrop(x, y, w, h)));

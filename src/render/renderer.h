@@ -108,6 +108,11 @@ class Renderer {
   // passes `deadline` (none: never); the rays traced before it keep their hits, so the pixels
   // traced again after it are shaded again rather than traced.
   void setDeadline(std::optional<std::chrono::steady_clock::time_point> deadline) { deadline_ = deadline; }
+  // Renders from now on give an edge pixel its two more rays (the default), or one ray every
+  // pixel and no ring around the spans (a coarse picture the kiosk enlarges: at 16 pixels a
+  // sample nearly every pixel over a pile of set operations is a crease, and its extra rays
+  // tripled the picture's cost).
+  void setAntialias(bool on) { antialias_ = on; }
 
   // The pixels whose rays can see a change made by operation `index` of the model (just appended,
   // or just undone): the projection of the 3D box where f can change sign or where a hit's
@@ -176,7 +181,8 @@ class Renderer {
   // The centre rays' hits at one camera: per pixel t along the ray, +inf a miss, NaN not known.
   // Kept while the geometry those rays saw stands: sync() forgets the pixels a change can move
   // (the projection of what it changes in f, without the shading's reach), a change of the set
-  // operations or a rebuild all of them. The last two cameras' (a preview's size and the frame's).
+  // operations or a rebuild all of them. The last three cameras' (the frame's, a preview's or a
+  // coarse picture's, and the coarsest a stopped coarse picture falls back to).
   struct HitCache {
     std::optional<Camera> camera;
     std::vector<double> t;
@@ -184,8 +190,9 @@ class Renderer {
     // camera in motion is set several times a frame, and each fill was 8 MB at 1280x800).
     bool blank = false;
   };
-  HitCache hitCaches_[2];  // [0]: the current camera's
+  HitCache hitCaches_[3];  // [0]: the current camera's, then by last use
   std::optional<std::chrono::steady_clock::time_point> deadline_;  // setDeadline()
+  bool antialias_ = true;                                         // setAntialias()
   // Forgets the kept hits a sync() may have moved: `followed` whether the model was the one
   // followed before, `setIdsBefore` the set operations' ids before it.
   void forgetMovedHits(bool followed, const std::vector<std::uint64_t>& setIdsBefore);
@@ -307,15 +314,18 @@ class Renderer {
   double step_ = 0.25;
   Box3 bounds_{};                   // exact tracer: the model's bounds
   std::vector<std::uint32_t> all_;  // 0..active-1, for the naive mode
-  std::vector<std::uint8_t> backdrop_;  // the camera's backdrop, 3 bytes a pixel (it never changes)
   // render()'s per-pixel buffers for the ring of its spans, kept between calls (a full frame's are
   // 25 MB: allocated and zeroed anew, their page faults cost a frame a few percent).
   std::vector<glm::vec3> centre_, normal_;
   std::vector<std::uint8_t> hits_;
-  // The backdrop of the size before (a preview's, or the frame's while a preview is traced): going
-  // back and forth between two sizes computes neither again.
-  std::vector<std::uint8_t> spareBackdrop_;
-  int backdropW_ = 0, backdropH_ = 0, spareW_ = 0, spareH_ = 0;
+  // The backdrop of a picture's size, 3 bytes a pixel (it never changes): [0] the camera's, then
+  // the sizes before by last use (the frame's while a preview or a coarse picture is traced), so
+  // that going back and forth between them computes none again.
+  struct Backdrop {
+    int w = 0, h = 0;
+    std::vector<std::uint8_t> bytes;
+  };
+  Backdrop backdrops_[3];
 
   // The field tracer's state.
   HeightField field_;

@@ -1,6 +1,8 @@
 // The renderer takes in the model (the displacement field, its columns and set operations) and the
 // camera (renderer.h).
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 
 #include "render/renderer_internal.h"
 
@@ -545,33 +547,39 @@ bool Renderer::pick(const Model& model, const Camera& camera, double sx, double 
 }
 
 void Renderer::setCamera(const Camera& camera) {
-  const bool sameSize = camera_ && camera_->width() == camera.width() && camera_->height() == camera.height();
   camera_ = camera;
   ++cameraGeneration_;
-  // The kept hits: this camera's if they are the last two cameras', else none yet.
-  if (!(hitCaches_[0].camera && sameCamera(*hitCaches_[0].camera, camera))) {
-    std::swap(hitCaches_[0], hitCaches_[1]);
-    if (!(hitCaches_[0].camera && sameCamera(*hitCaches_[0].camera, camera))) {
-      hitCaches_[0].camera = camera;
-      hitCaches_[0].t.resize(static_cast<size_t>(camera.width()) * camera.height());
-      hitCaches_[0].blank = true;
-    }
+  // The kept hits: this camera's if it is one of the last three, else none yet (in the place of
+  // the one used longest ago).
+  HitCache* const caches = hitCaches_;
+  const auto cacheEnd = caches + std::size(hitCaches_);
+  HitCache* c = std::find_if(caches, cacheEnd, [&](const HitCache& h) { return h.camera && sameCamera(*h.camera, camera); });
+  const bool known = c != cacheEnd;
+  if (!known) c = cacheEnd - 1;
+  std::rotate(caches, c, c + 1);
+  if (!known) {
+    caches[0].camera = camera;
+    caches[0].t.resize(static_cast<size_t>(camera.width()) * camera.height());
+    caches[0].blank = true;
   }
-  if (sameSize && !backdrop_.empty()) return;
   // The backdrop depends on the pixel and the picture's size alone: computed once per size, the
-  // last two sizes kept.
+  // last three sizes kept.
   const int w = camera.width(), h = camera.height();
-  backdrop_.swap(spareBackdrop_);
-  std::swap(backdropW_, spareW_);
-  std::swap(backdropH_, spareH_);
-  if (backdropW_ == w && backdropH_ == h && !backdrop_.empty()) return;
-  backdropW_ = w, backdropH_ = h;
-  backdrop_.assign(static_cast<size_t>(w) * h * 3, 0);
+  Backdrop* const b = backdrops_;
+  const auto backdropEnd = b + std::size(backdrops_);
+  Backdrop* d = std::find_if(b, backdropEnd, [&](const Backdrop& k) { return k.w == w && k.h == h && !k.bytes.empty(); });
+  const bool kept = d != backdropEnd;
+  if (!kept) d = backdropEnd - 1;
+  std::rotate(b, d, d + 1);
+  if (kept) return;
+  b[0].w = w, b[0].h = h;
+  b[0].bytes.assign(static_cast<size_t>(w) * h * 3, 0);
+  std::uint8_t* const bytes = b[0].bytes.data();
   pool_.parallelFor2D(Rect{0, 0, w, h}, 64, [&](const Rect& t) {
     for (int y = t.y; y < t.y + t.h; ++y)
       for (int x = t.x; x < t.x + t.w; ++x) {
         const auto rgb = toSrgb8Fast(backdrop(x, y, w, h));
-        std::copy(rgb.begin(), rgb.end(), &backdrop_[(static_cast<size_t>(y) * w + x) * 3]);
+        std::copy(rgb.begin(), rgb.end(), &bytes[(static_cast<size_t>(y) * w + x) * 3]);
       }
   });
 }

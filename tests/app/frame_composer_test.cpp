@@ -2,7 +2,9 @@
 // refinement bands, the finished frame equals one full render.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include <cstdlib>
 
@@ -271,6 +273,8 @@ TEST(FrameComposer, ACoarsePictureGoesCoarserWhereTheLastOneCostTooMuch) {
   std::vector<Rect> changed;
   fc.setDirtyBudget(0.05);  // any coarse picture costs more than this
   fc.setFieldBandMs(0);
+  // (none stops at its budget: its scale is the one the last picture's cost chose)
+  fc.setLeastBudgets(FrameComposer::kMinDirtyMs, 1e9);
   const auto coarseRays = [&](const Operation& op) {
     const std::uint64_t before = fc.counters().render.rays, coarseBefore = fc.counters().coarseRects;
     EXPECT_TRUE(m.add(op));
@@ -286,7 +290,66 @@ TEST(FrameComposer, ACoarsePictureGoesCoarserWhereTheLastOneCostTooMuch) {
   const std::uint64_t first = coarseRays(raisedRectangle(18, 12)), second = coarseRays(raisedRectangle(17, 11));
   EXPECT_GT(second, 0u);
   EXPECT_LT(3 * second, first) << "the second coarse picture was not coarser";
+  EXPECT_EQ(fc.lastCoarseScale(), FrameComposer::kMaxCoarseScale);
+  EXPECT_EQ(fc.counters().coarseStopped, 0u);
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
+}
+
+// A coarse picture that costs more than its budget (its rays dearer than the last pictures' were:
+// a pile of set operations grown under the pen) stops there, and the coarsest picture is shown
+// instead; the finished frame is a full render's.
+TEST(FrameComposer, ACoarsePictureThatOverrunsItsBudgetShowsTheCoarsest) {
+  PlateOnScreen t;
+  auto& [pool, fc, m, home, sh] = t;
+  constexpr int w = PlateOnScreen::w, h = PlateOnScreen::h;
+  std::vector<Rect> changed;
+  fc.setDirtyBudget(0.05);        // the region is shown coarse
+  fc.setLeastBudgets(1.0, 1e-6);  // and its coarse picture overruns a nanosecond
+  fc.setFieldBandMs(0);
+  const Image before = fc.frame();
+  ASSERT_TRUE(m.add(raisedRectangle(18, 12)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  fc.work(1000.0, changed, true);
+  EXPECT_EQ(fc.counters().coarseRects, 1u);
+  EXPECT_EQ(fc.counters().coarseStopped, 1u);
+  EXPECT_EQ(fc.lastCoarseScale(), FrameComposer::kMaxCoarseScale);
+  ASSERT_EQ(changed.size(), 1u);
+  // The coarsest picture shows the region all the same: most of its pixels changed.
+  const Rect r = changed[0];
+  long moved = 0;
+  for (int y = r.y; y < r.y + r.h; ++y)
+    for (int x = r.x; x < r.x + r.w; ++x) moved += std::memcmp(fc.frame().pixel(x, y), before.pixel(x, y), 3) != 0;
+  EXPECT_GT(moved, r.area() / 2);
+  EXPECT_TRUE(fc.pending());
+  fc.flush(changed);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
+}
+
+// A visitor's step that spent its frame before the tracing (a raised region's field over a pile
+// of set operations) leaves the dirty rectangles less than their budget: work()'s presentBy. Past
+// it, a stroke that would be traced exactly within the budget is shown coarse.
+TEST(FrameComposer, WhatTheStepSpentComesOffTheDirtyBudget) {
+  PlateOnScreen t(false);
+  auto& [pool, fc, m, home, sh] = t;
+  std::vector<Rect> changed;
+  fc.setDirtyBudget(1e6);          // a stroke alone is always traced exactly
+  fc.setLeastBudgets(1e-6, 1e9);   // a step past its time leaves it a nanosecond
+  const auto now = std::chrono::steady_clock::now();
+  ASSERT_TRUE(m.add(punch(-10, 0)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  fc.work(1000.0, changed, true, false, now + std::chrono::hours(1));
+  EXPECT_EQ(fc.counters().dirtyStopped, 0u);
+  EXPECT_EQ(fc.counters().coarseRects, 0u);
+  ASSERT_TRUE(m.add(punch(10, 0)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  fc.work(1000.0, changed, true, false, now - std::chrono::milliseconds(20));
+  // (traced coarse at once where the first punch measured the speed, else stopped: either way
+  // shown coarse)
+  EXPECT_EQ(fc.counters().coarseRects, 1u);
+  EXPECT_TRUE(fc.pending());
+  EXPECT_EQ(fc.counters().coarseStopped, 0u);
+  fc.flush(changed);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, PlateOnScreen::w, PlateOnScreen::h).rgba);
 }
 
 // Attract mode presents on a fixed grid of ticks: a stroke's dirty rectangles traced late in a

@@ -245,9 +245,13 @@ TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
   st = update(model.activeCount() - 1);
   EXPECT_GT(st.reshaded, 0u);
   EXPECT_GT(st.rays, 2 * st.edgePixels + 100);
-  // A preview's camera and back: the frame's hits are still kept. Then the punch undone.
+  // A coarse picture's camera, the coarsest one a stopped picture falls back to, and back: the
+  // frame's hits are still kept. Then the punch undone.
+  const Camera coarsest(piece.camera, 16, 10);
   live.setCamera(small);
   Image low;
+  live.renderFull(low);
+  live.setCamera(coarsest);
   live.renderFull(low);
   live.setCamera(camera);
   model.undo();

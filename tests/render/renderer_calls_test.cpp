@@ -3,10 +3,11 @@
 // a render never stopped); pick() finds the point on the ray through a pixel as the renderer
 // traces it, the model's surface within a few micrometres (pickSurface, on the model alone), and
 // declines when the renderer has not followed the model's last edit or looks through another
-// camera.
+// camera; without anti-aliasing a render traces one ray a pixel.
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 
@@ -68,6 +69,40 @@ TEST(RenderDeadline, AStoppedRenderIsFinishedByTheNextToTheSameBytes) {
   r.setDeadline(std::nullopt);
   EXPECT_TRUE(r.render(image, all));
   EXPECT_EQ(image.rgba, expected.rgba);
+}
+
+// Without anti-aliasing (the kiosk's coarse pictures) every pixel is one ray through its centre
+// and no ring is traced round the spans: the picture differs from the anti-aliased one only at
+// its edge pixels, and turning it back on gives the anti-aliased bytes.
+TEST(RenderAntialias, OffTracesOneRayAPixelAndDiffersOnlyAtEdges) {
+  const GeneratedPiece piece = smallPiece(40, 29);
+  auto built = piece.makeModel();
+  ASSERT_TRUE(built.ok()) << built.error();
+  const Model& model = *built;
+  const Camera camera(piece.camera, 240, 160);
+  ThreadPool pool(2);
+  Renderer r(pool);
+  lookAt(r, model, camera);
+  Image smooth, plain;
+  RenderStats withEdges, without;
+  ASSERT_TRUE(r.renderFull(smooth, &withEdges));
+  ASSERT_GT(withEdges.edgePixels, 50u);
+  r.setAntialias(false);
+  ASSERT_TRUE(r.renderFull(plain, &without));
+  EXPECT_EQ(without.edgePixels, 0u);
+  EXPECT_EQ(without.rays, static_cast<std::uint64_t>(camera.width()) * camera.height());
+  // A small rectangle: its own pixels' rays only (traced, or shaded at their kept hits).
+  RenderStats small;
+  ASSERT_TRUE(r.render(plain, Rect{100, 60, 20, 10}, &small));
+  EXPECT_EQ(small.rays + small.reshaded, 200u);
+  long differ = 0;
+  for (size_t i = 0; i < smooth.rgba.size(); i += 4) differ += std::memcmp(&smooth.rgba[i], &plain.rgba[i], 3) != 0;
+  EXPECT_GT(differ, 0);
+  EXPECT_LE(differ, static_cast<long>(withEdges.edgePixels));
+  r.setAntialias(true);
+  Image again;
+  ASSERT_TRUE(r.renderFull(again));
+  EXPECT_EQ(again.rgba, smooth.rgba);
 }
 
 TEST(RendererPick, FindsTheModelsSurfaceAndDeclinesWhenBehind) {
