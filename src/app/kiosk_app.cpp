@@ -25,7 +25,7 @@ constexpr double kVisitorBudgetMs = 6.0;
 // A visitor's stroke is to be on the screen this long after the step took its pen events (the
 // model's side of the step included), coarse where its exact pixels would not fit in what is
 // left: with the wait for the step, within a frame at 60 Hz.
-constexpr double kPenFrameMs = 12.0;
+constexpr std::chrono::milliseconds kPenFrame{12};
 constexpr double kAnimationPeriod = 1.0 / 30.0;
 constexpr double kMaxAttractGap = 0.25;       // a longer step is a stall: attract mode does not catch up
 
@@ -316,8 +316,7 @@ bool KioskApp::step() {
   // In attract mode nobody waits for a stroke: what would not be traced before the next tick
   // waits for the turn after it.
   composer_->work(budgetMs, changed_, drawing, m == KioskMode::Attract,
-                  drawing ? std::optional(tStart + std::chrono::microseconds(static_cast<long>(kPenFrameMs * 1000)))
-                          : std::nullopt);
+                  drawing ? std::optional(tStart + kPenFrame) : std::nullopt);
   const Steady::time_point tTrace = Steady::now();
   // Animated screens (attract mode, the countdown, the capture) are presented on a fixed 30 Hz
   // grid: timing each frame from the last present would add the loop's wake-up delay to every

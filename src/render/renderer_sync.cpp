@@ -2,7 +2,7 @@
 // camera (renderer.h).
 #include <algorithm>
 #include <chrono>
-#include <iterator>
+#include <cstddef>
 
 #include "render/renderer_internal.h"
 
@@ -533,6 +533,17 @@ bool sameCamera(const Camera& a, const Camera& b) {
   return a.width() == b.width() && a.height() == b.height() && a.spec() == b.spec();
 }
 
+// Moves the first of `items` that `matches` to the front, the others keeping their order behind
+// it, or when none does the last one (used longest ago): whether one matched.
+template <class T, size_t N, class Match>
+bool toFront(T (&items)[N], Match matches) {
+  T* it = std::find_if(items, items + N, matches);
+  const bool found = it != items + N;
+  if (!found) it = items + N - 1;
+  std::rotate(items, it, it + 1);
+  return found;
+}
+
 }  // namespace
 
 bool Renderer::pick(const Model& model, const Camera& camera, double sx, double sy, std::optional<glm::dvec3>& hit) const {
@@ -551,30 +562,19 @@ void Renderer::setCamera(const Camera& camera) {
   ++cameraGeneration_;
   // The kept hits: this camera's if it is one of the last three, else none yet (in the place of
   // the one used longest ago).
-  HitCache* const caches = hitCaches_;
-  const auto cacheEnd = caches + std::size(hitCaches_);
-  HitCache* c = std::find_if(caches, cacheEnd, [&](const HitCache& h) { return h.camera && sameCamera(*h.camera, camera); });
-  const bool known = c != cacheEnd;
-  if (!known) c = cacheEnd - 1;
-  std::rotate(caches, c, c + 1);
-  if (!known) {
-    caches[0].camera = camera;
-    caches[0].t.resize(static_cast<size_t>(camera.width()) * camera.height());
-    caches[0].blank = true;
+  if (!toFront(hitCaches_, [&](const HitCache& h) { return h.camera && sameCamera(*h.camera, camera); })) {
+    hitCaches_[0].camera = camera;
+    hitCaches_[0].t.resize(static_cast<size_t>(camera.width()) * camera.height());
+    hitCaches_[0].blank = true;
   }
   // The backdrop depends on the pixel and the picture's size alone: computed once per size, the
   // last three sizes kept.
   const int w = camera.width(), h = camera.height();
-  Backdrop* const b = backdrops_;
-  const auto backdropEnd = b + std::size(backdrops_);
-  Backdrop* d = std::find_if(b, backdropEnd, [&](const Backdrop& k) { return k.w == w && k.h == h && !k.bytes.empty(); });
-  const bool kept = d != backdropEnd;
-  if (!kept) d = backdropEnd - 1;
-  std::rotate(b, d, d + 1);
-  if (kept) return;
-  b[0].w = w, b[0].h = h;
-  b[0].bytes.assign(static_cast<size_t>(w) * h * 3, 0);
-  std::uint8_t* const bytes = b[0].bytes.data();
+  if (toFront(backdrops_, [&](const Backdrop& k) { return k.w == w && k.h == h && !k.bytes.empty(); })) return;
+  Backdrop& b = backdrops_[0];
+  b.w = w, b.h = h;
+  b.bytes.assign(static_cast<size_t>(w) * h * 3, 0);
+  std::uint8_t* const bytes = b.bytes.data();
   pool_.parallelFor2D(Rect{0, 0, w, h}, 64, [&](const Rect& t) {
     for (int y = t.y; y < t.y + t.h; ++y)
       for (int x = t.x; x < t.x + t.w; ++x) {
