@@ -138,10 +138,14 @@ struct Counts {
 };
 
 // Nearly all of the baseline's time is here (everything it calls is inlined). Its start is aligned
-// to a cache line so that its loops keep their alignment whatever else the binary holds: left to
-// the linker, the same code ran 10 to 20 % slower in one build than in another on the same machine,
-// and the yardstick moved with it.
-[[gnu::aligned(64)]] void cell(const Job& j, int depth, int x0, int y0, int n, Scratch& s, Counts& c) {
+// to a page so that its loops and its interpreter's indirect jump keep their place within a page
+// whatever else the binary holds: left to the linker, the same code ran 10 to 20 % slower in one
+// build than in another on the same machine, and the yardstick moved with it. A cache line was not
+// enough: two builds with the function 64-byte aligned at different offsets in its page took 86 to
+// 88 ms and 77 ms a frame, alternately on the same host; page-aligned, both 77 to 78 ms, and so
+// did a third with the function three pages further on (performance.md, "Against the in-run
+// baseline").
+[[gnu::aligned(4096)]] void cell(const Job& j, int depth, int x0, int y0, int n, Scratch& s, Counts& c) {
   if (x0 >= j.size || y0 >= j.size) return;
   const std::vector<Node>& tape = s.tapes[depth];
   const Interval ix(-j.halfWidth + x0 * j.pixel, -j.halfWidth + (x0 + n) * j.pixel);

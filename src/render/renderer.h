@@ -169,6 +169,9 @@ class Renderer {
   // For tests: the set operations (in index order) and their shift fields (null: none).
   size_t setOperationCount() const { return setOps_.size(); }
   const HeightField* shiftField(size_t k) const { return setOps_[k].shift.get(); }
+  // For tests: W over a box as the field tracer bounds it (after sync(); outline sheets through
+  // their specialised tapes).
+  Interval workpieceBound(const P3<Interval>& box) const { return workpieceValue(box); }
   // The bytes held for the model followed: the height field, the index, the set operations'
   // shift fields.
   size_t memoryBytes() const;
@@ -393,9 +396,13 @@ class Renderer {
     };
     Column at(double x, double y) const;
     Column block(int i, int j) const;
-    // The program specialised to a box holding (x, y) / the xy box; the whole program beyond the map.
+    // The program specialised to a box holding (x, y); the whole program beyond the map.
     const VmProgram& tapeAt(double x, double y) const;
-    const VmProgram& tapeOver(const Box2& xy) const;
+    // W over a box: through the tape of the box's block, leaf or region when it lies in one; a
+    // box across the edges of at most 2 x 2 leaves (or regions) is cut along them and W is the
+    // hull of its parts', each through its own leaf's (or region's) tape, which is much shorter
+    // than the region's (or the whole program) and bounds tighter. The whole program beyond the map.
+    Interval valueOver(const P3<Interval>& p) const;
     size_t memoryBytes() const;
   };
   void buildColumns();

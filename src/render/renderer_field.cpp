@@ -424,6 +424,8 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
           prevQ = q0 - 2;
           continue;
         }
+        // The cell is searched below; its interval test (the one empty() would make) just failed.
+        cellChecked = !rc.dense;
         shortSteps = 5;
       } else if (fa.l < 0.0) {
         // The stretch the step can reach when the ray's slope bound is at least kStepRate; a step

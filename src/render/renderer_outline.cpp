@@ -30,16 +30,32 @@ Renderer::ColumnMap::Blocks Renderer::ColumnMap::under(const Box2& xy) const {
           static_cast<int>(std::floor((xy.x1 - x0) * inv)), static_cast<int>(std::floor((xy.y1 - y0) * inv))};
 }
 
-const VmProgram& Renderer::ColumnMap::tapeOver(const Box2& xy) const {
-  const auto [i0, j0, i1, j1] = under(xy);
-  if (i0 < 0 || j0 < 0 || i1 >= nx || j1 >= ny) return vm->program();
+Interval Renderer::ColumnMap::valueOver(const P3<Interval>& p) const {
+  const auto [i0, j0, i1, j1] = under(Box2{p.x.lo, p.y.lo, p.x.hi, p.y.hi});
+  if (i0 < 0 || j0 < 0 || i1 >= nx || j1 >= ny) return vm->value(vm->program(), p);
   if (i0 == i1 && j0 == j1)
-    if (const std::int32_t b = blockTapeOf[static_cast<size_t>(j0) * nx + i0]; b >= 0) return blockTape[static_cast<size_t>(b)];
-  if (i0 / kLeaf == i1 / kLeaf && j0 / kLeaf == j1 / kLeaf)
-    return leafTape[static_cast<size_t>(j0 / kLeaf) * leavesX + i0 / kLeaf];
-  constexpr int r = kLeaf * kRegion;
-  if (i0 / r == i1 / r && j0 / r == j1 / r) return regionTape[static_cast<size_t>(j0 / r) * regionsX + i0 / r];
-  return vm->program();
+    if (const std::int32_t b = blockTapeOf[static_cast<size_t>(j0) * nx + i0]; b >= 0) return vm->value(blockTape[static_cast<size_t>(b)], p);
+  // Cut along the edges of the cells (leaves, else regions) the box meets, when there are at most
+  // 2 x 2 of them. The first part starts at the box's own low end and the last ends at its high
+  // end, so the parts cover the box whatever the rounding that put an end in a cell; each end
+  // lies within the hair its cell's tape was specialised beyond the cell.
+  auto cut = [&](int cell, const std::vector<VmProgram>& tapes, int cellsX) -> std::optional<Interval> {
+    const int a0 = i0 / cell, a1 = i1 / cell, b0 = j0 / cell, b1 = j1 / cell;
+    if (a1 - a0 > 1 || b1 - b0 > 1) return std::nullopt;
+    const double w = cell * size;
+    std::optional<Interval> hull;
+    for (int b = b0; b <= b1; ++b)
+      for (int a = a0; a <= a1; ++a) {
+        const Interval x(a == a0 ? p.x.lo : x0 + a * w, a == a1 ? p.x.hi : x0 + (a + 1) * w);
+        const Interval y(b == b0 ? p.y.lo : y0 + b * w, b == b1 ? p.y.hi : y0 + (b + 1) * w);
+        const Interval v = vm->value(tapes[static_cast<size_t>(b) * cellsX + a], P3<Interval>{x, y, p.z});
+        hull = hull ? Interval(std::min(hull->lo, v.lo), std::max(hull->hi, v.hi)) : v;
+      }
+    return hull;
+  };
+  if (const auto v = cut(kLeaf, leafTape, leavesX)) return *v;
+  if (const auto v = cut(kLeaf * kRegion, regionTape, regionsX)) return *v;
+  return vm->value(vm->program(), p);
 }
 
 bool Renderer::ColumnMap::anyOutside(const Box2& xy) const {
@@ -70,7 +86,7 @@ Grad Renderer::workpieceValue(const P3<Grad>& p) const {
 }
 
 Interval Renderer::workpieceValue(const P3<Interval>& p) const {
-  if (workpieceKind_ == 4 && options_.specialisedOutline) return columns_.vm->value(columns_.tapeOver(Box2{p.x.lo, p.y.lo, p.x.hi, p.y.hi}), p);
+  if (workpieceKind_ == 4 && options_.specialisedOutline) return columns_.valueOver(p);
   return model_->workpiece().value(p);
 }
 

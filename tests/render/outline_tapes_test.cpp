@@ -2,6 +2,7 @@
 // the picture is exactly the one the whole program gives.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -54,6 +55,46 @@ TEST(OutlineTapes, ThePictureIsTheWholeProgramsByteForByte) {
     // The tapes are counted in what the renderer holds.
     EXPECT_GT(withTapes, 0u);
   }
+}
+
+// A box across the edges of leaves or regions is bounded by the hull of its parts, each through
+// its own cell's tape: every value of W in the box lies within it, and it is never wider than
+// the whole program's interval over the box. (Most random boxes lie where the slab or the outside
+// decides W, the same interval either way; the rest are narrower.)
+TEST(OutlineTapes, ABoxAcrossCellsIsBoundedByItsPartsTapes) {
+  auto outline = generateOutlinePiece(900, 4, 30.0, 0.5, 40, 4, false);
+  ASSERT_TRUE(outline.ok()) << outline.error();
+  const GeneratedPiece& piece = *outline;
+  Model model(piece.workpiece, piece.deformation);
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.setCamera(Camera(piece.camera, 160, 120));
+  r.sync(model);
+  const Workpiece& w = model.workpiece();
+  const Box3 b = w.bounds();
+  const double d = w.halfThickness();
+  PieceRandom rng(17);
+  int narrower = 0, boxes = 0;
+  for (int i = 0; i < 400; ++i) {
+    // Half-sizes from a twentieth of a block to beyond a region (0.01 to 12 mm).
+    const double hx = 0.01 * std::pow(1200.0, rng.uniform(0.0, 1.0)), hy = 0.01 * std::pow(1200.0, rng.uniform(0.0, 1.0));
+    const double cx = rng.uniform(b.x0, b.x1), cy = rng.uniform(b.y0, b.y1), cz = rng.uniform(-d, d);
+    const P3<Interval> box{Interval(cx - hx, cx + hx), Interval(cy - hy, cy + hy), Interval(cz - 0.1 * d, cz + 0.1 * d)};
+    const Interval v = r.workpieceBound(box);
+    const Interval whole = w.value(box);
+    const double eps = 1e-9 * (1.0 + std::abs(whole.lo) + std::abs(whole.hi));
+    ++boxes;
+    ASSERT_GE(v.lo, whole.lo - eps) << "box " << i;
+    ASSERT_LE(v.hi, whole.hi + eps) << "box " << i;
+    narrower += v.hi - v.lo < 0.99 * (whole.hi - whole.lo);
+    for (int k = 0; k < 25; ++k) {
+      const P3<double> p{rng.uniform(box.x.lo, box.x.hi), rng.uniform(box.y.lo, box.y.hi), rng.uniform(box.z.lo, box.z.hi)};
+      const double f = w.value(p);
+      ASSERT_GE(f, v.lo - eps) << "box " << i << " point " << k;
+      ASSERT_LE(f, v.hi + eps) << "box " << i << " point " << k;
+    }
+  }
+  EXPECT_GT(narrower, boxes / 10) << "the parts' tapes should bound the boxes near the outline tighter than the whole program";
 }
 
 }  // namespace
