@@ -31,7 +31,9 @@ Renderer::ColumnMap::Blocks Renderer::ColumnMap::under(const Box2& xy) const {
 }
 
 Interval Renderer::ColumnMap::valueOver(const P3<Interval>& p) const {
-  const auto [i0, j0, i1, j1] = under(Box2{p.x.lo, p.y.lo, p.x.hi, p.y.hi});
+  // (Named, not structured bindings: the lambda below reads them.)
+  const Blocks box = under(Box2{p.x.lo, p.y.lo, p.x.hi, p.y.hi});
+  const int i0 = box.i0, j0 = box.j0, i1 = box.i1, j1 = box.j1;
   if (i0 < 0 || j0 < 0 || i1 >= nx || j1 >= ny) return vm->value(vm->program(), p);
   if (i0 == i1 && j0 == j1)
     if (const std::int32_t b = blockTapeOf[static_cast<size_t>(j0) * nx + i0]; b >= 0) return vm->value(blockTape[static_cast<size_t>(b)], p);
