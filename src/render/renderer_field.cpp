@@ -1,6 +1,7 @@
 // The field tracer: rays through the sheet model, the displacement field with its pyramid bounding
 // the steps (renderer.h).
 #include "render/renderer_internal.h"
+#include "util/portable_math.h"
 
 namespace emboss {
 
@@ -225,8 +226,8 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   if (!clipRay(ray, fieldClip_, t0, t1)) return std::nullopt;
   const double h = step_, h8 = h / kSubdivisions;
   // Points of the ray are t = q h / kSubdivisions for integers q: the same points whatever the clip.
-  const long q0 = kSubdivisions * static_cast<long>(std::floor(t0 / h));
-  const long q1 = kSubdivisions * static_cast<long>(std::ceil(t1 / h));
+  const long q0 = kSubdivisions * floorToLong(t0 / h);
+  const long q1 = kSubdivisions * ceilToLong(t1 / h);
   auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };
 
   RayContext rc;
@@ -249,7 +250,7 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     const Box2 r{std::max(reach.x0, dom.x0), std::max(reach.y0, dom.y0), std::min(reach.x1, dom.x1), std::min(reach.y1, dom.y1)};
     const HeightField::Bound rb = field_.bound(r);
     rc.lf = lipschitzAlong(ray.dir, rb, workpieceKind_);
-    const long qa = static_cast<long>(std::ceil(tda / h8)) - 2, qb = static_cast<long>(std::floor(tdb / h8)) + 2;
+    const long qa = ceilToLong(tda / h8) - 2, qb = floorToLong(tdb / h8) + 2;
     if (qa >= q0) rc.skipLo[rc.skips] = q0, rc.skipHi[rc.skips] = qa, ++rc.skips;
     if (qb <= q1) rc.skipLo[rc.skips] = qb, rc.skipHi[rc.skips] = q1, ++rc.skips;
     // The windows where a set operation can act: the ray inside its box.
@@ -267,20 +268,20 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     if (crossed >= kDenseSetOps) {
       rc.dense = true;
       ++st.denseRays;
-      rc.addWindow(static_cast<long>(std::floor(denseA / h8)) - 1, static_cast<long>(std::ceil(denseB / h8)) + 1, q1);
+      rc.addWindow(floorToLong(denseA / h8) - 1, ceilToLong(denseB / h8) + 1, q1);
     } else {
       for (int k = 0; k < rc.setOpCount; ++k) {
         const SetOp& s = *rc.setOps[k];
         double ta, tb;
         if (!clipRay(ray, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}, ta, tb)) continue;
-        rc.addWindow(static_cast<long>(std::floor(ta / h8)) - 1, static_cast<long>(std::ceil(tb / h8)) + 1, q1);
+        rc.addWindow(floorToLong(ta / h8) - 1, ceilToLong(tb / h8) + 1, q1);
       }
     }
     // Above the sheet's front face over the ray's reach f < 0 (outside the windows): a ray from
     // above skips to where it goes under that face's highest point (the clip box also holds the
     // set operations' tools), or to the first window.
     if (frontThickness_ >= 0.0 && ray.dir.z < 0.0 && reachInDomain) {
-      auto under = [&](double hi) { return static_cast<long>(std::floor((hi + frontThickness_ + 1e-6 - ray.origin.z) / ray.dir.z / h8)) - 1; };
+      auto under = [&](double hi) { return floorToLong((hi + frontThickness_ + 1e-6 - ray.origin.z) / ray.dir.z / h8) - 1; };
       long topQ = under(rb.hi);
       // The rest of the ray, from there, reaches less of the sheet: its highest point there may be
       // lower (a ray over flat metal beside a raised motif), a few times over.
@@ -298,7 +299,7 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
       const ColumnMap& c = columns_;
       const double tStart = static_cast<double>(q0) * h8, tEnd = static_cast<double>(q1) * h8;
       const glm::dvec3 p0 = ray.origin + tStart * ray.dir;
-      int i = static_cast<int>(std::floor((p0.x - c.x0) * c.inv)), j = static_cast<int>(std::floor((p0.y - c.y0) * c.inv));
+      int i = floorToInt((p0.x - c.x0) * c.inv), j = floorToInt((p0.y - c.y0) * c.inv);
       const int si = ray.dir.x > 0 ? 1 : -1, sj = ray.dir.y > 0 ? 1 : -1;
       const double inf = std::numeric_limits<double>::infinity();
       auto crossing = [&](int k, int sk, double o, double d, double base) {
@@ -313,7 +314,7 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
       auto endRun = [&](double tb) {
         // Boundary columns need no window: W <= the slab there, whose Lipschitz bound holds.
         if (runClass == 0 && rc.skips < RayContext::kMaxWindows) {
-          const long lo = static_cast<long>(std::ceil(runStart / h8)) + 1, hi = static_cast<long>(std::floor(tb / h8)) - 1;
+          const long lo = ceilToLong(runStart / h8) + 1, hi = floorToLong(tb / h8) - 1;
           if (lo <= hi) rc.skipLo[rc.skips] = lo, rc.skipHi[rc.skips] = hi, ++rc.skips;
         }
       };

@@ -1,6 +1,7 @@
 // Outline sheets (2D vm workpieces): the column map and the outline's program specialised per
 // column block (renderer.h, docs/rendering.md "Outline sheets").
 #include "render/renderer_internal.h"
+#include "util/portable_math.h"
 
 
 namespace emboss {
@@ -15,19 +16,19 @@ Renderer::ColumnMap::Column Renderer::ColumnMap::block(int i, int j) const {
 }
 
 Renderer::ColumnMap::Column Renderer::ColumnMap::at(double x, double y) const {
-  return block(static_cast<int>(std::floor((x - x0) * inv)), static_cast<int>(std::floor((y - y0) * inv)));
+  return block(floorToInt((x - x0) * inv), floorToInt((y - y0) * inv));
 }
 
 const VmProgram& Renderer::ColumnMap::tapeAt(double x, double y) const {
-  const int i = static_cast<int>(std::floor((x - x0) * inv)), j = static_cast<int>(std::floor((y - y0) * inv));
+  const int i = floorToInt((x - x0) * inv), j = floorToInt((y - y0) * inv);
   if (i < 0 || j < 0 || i >= nx || j >= ny) return vm->program();
   if (const std::int32_t b = blockTapeOf[static_cast<size_t>(j) * nx + i]; b >= 0) return blockTape[static_cast<size_t>(b)];
   return leafTape[static_cast<size_t>(j / kLeaf) * leavesX + i / kLeaf];
 }
 
 Renderer::ColumnMap::Blocks Renderer::ColumnMap::under(const Box2& xy) const {
-  return {static_cast<int>(std::floor((xy.x0 - x0) * inv)), static_cast<int>(std::floor((xy.y0 - y0) * inv)),
-          static_cast<int>(std::floor((xy.x1 - x0) * inv)), static_cast<int>(std::floor((xy.y1 - y0) * inv))};
+  return {floorToInt((xy.x0 - x0) * inv), floorToInt((xy.y0 - y0) * inv),
+          floorToInt((xy.x1 - x0) * inv), floorToInt((xy.y1 - y0) * inv)};
 }
 
 Interval Renderer::ColumnMap::valueOver(const P3<Interval>& p) const {

@@ -5,6 +5,7 @@
 
 #include "render/table_cache.h"
 #include "render/thread_pool.h"
+#include "util/portable_math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -284,7 +285,7 @@ glm::dvec2 hammerGradient(double x, double y, double slope) {
   // h(d) = -A (1 - d^2/R^2)^2 for d < R: largest slope 16 A / (3 sqrt(3) R) at d = R / sqrt(3).
   const double amp = slope * 3.0 * std::sqrt(3.0) * kRadius / 16.0;
   const double k0 = 4.0 * amp * kInvR2;
-  const int cx = static_cast<int>(std::floor(x / kCell)), cy = static_cast<int>(std::floor(y / kCell));
+  const int cx = floorToInt(x / kCell), cy = floorToInt(y / kCell);
   // The centres of the nine cells around, hashed from the cells' indices: the same for every hit in
   // the cell (about five pixels in a row of a frame), so each thread keeps the last cell's.
   struct Centres {

@@ -9,6 +9,23 @@
 
 namespace emboss {
 
+// floor and ceil of a double as an integer, the same value as std::floor or std::ceil then the
+// cast, for |v| below the integer type's range, without the libm call that baseline x86-64 makes
+// for std::floor and std::ceil (no SSE4.1 rounding instruction): the field tracer finds a column
+// block and a grid point this way several times a ray.
+inline int floorToInt(double v) {
+  const int i = static_cast<int>(v);
+  return i - (v < static_cast<double>(i));
+}
+inline long floorToLong(double v) {
+  const long i = static_cast<long>(v);
+  return i - (v < static_cast<double>(i));
+}
+inline long ceilToLong(double v) {
+  const long i = static_cast<long>(v);
+  return i + (v > static_cast<double>(i));
+}
+
 namespace portable_detail {
 
 // x = k pi/2 + r, |r| <= pi/4 (Cody-Waite reduction with fdlibm's two-part pi/2).

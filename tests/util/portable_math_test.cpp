@@ -1,5 +1,6 @@
 // portableSin/portableCos: close to libm's (they replace it only for bit-for-bit reproducibility).
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -23,6 +24,22 @@ TEST(PortableMath, SinAndCosAgreeWithLibmToAFewUlps) {
   EXPECT_NEAR(portableSin(M_PI / 2), 1.0, 1e-16);
   EXPECT_NEAR(portableCos(M_PI), -1.0, 1e-16);
   EXPECT_EQ(portableHypot(3.0, 4.0), 5.0);
+}
+
+// The integer floors and ceilings give std::floor's and std::ceil's values: at and beside the
+// integers (one ulp either side), at fractions, at -0, and far out in both directions.
+TEST(PortableMath, IntegerFloorsAndCeilingsAreLibms) {
+  std::vector<double> xs{0.0, -0.0, 1e-300, -1e-300, 0.5, -0.5, 2.0e9, -2.0e9, 4.0e15, -4.0e15};
+  for (int i = -3000; i <= 3000; ++i) {
+    const double x = i * 0.37;
+    xs.insert(xs.end(), {x, std::nextafter(x, 1e300), std::nextafter(x, -1e300), static_cast<double>(i),
+                         std::nextafter(static_cast<double>(i), 1e300), std::nextafter(static_cast<double>(i), -1e300)});
+  }
+  for (double x : xs) {
+    ASSERT_EQ(floorToLong(x), static_cast<long>(std::floor(x))) << x;
+    ASSERT_EQ(ceilToLong(x), static_cast<long>(std::ceil(x))) << x;
+    if (std::abs(x) < 2.0e9) ASSERT_EQ(floorToInt(x), static_cast<int>(std::floor(x))) << x;
+  }
 }
 
 }  // namespace
