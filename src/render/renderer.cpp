@@ -1,6 +1,7 @@
 // The ray tracers: the field tracer (sheet model; renderer_field.cpp, its inputs renderer_sync.cpp)
 // and the exact tracer (offset model, --naive); frames and dirty regions.
 #include "render/renderer_internal.h"
+#include "render/shade_lanes.h"
 
 namespace emboss {
 
@@ -129,11 +130,8 @@ glm::dvec3 Renderer::sample(double sx, double sy, bool field, const Rect& reach,
   return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
 }
 
-std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                                             std::vector<std::uint32_t>& scratch, glm::vec3& normalOut, double* kept,
-                                             bool reuse) const {
-  normalOut = glm::vec3(0.0f);
-  std::optional<Hit> hit;
+std::optional<Renderer::Hit> Renderer::findHit(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
+                                               std::vector<std::uint32_t>& scratch, double* kept, bool reuse) const {
   if (kept && reuse && !std::isnan(*kept)) {
     // The hit the ray found before, which no change since can have moved: the same point (the
     // same t on the same ray), its normal from the field as the trace gives it.
@@ -141,24 +139,32 @@ std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, c
     if (std::isinf(*kept)) return std::nullopt;
     const Ray ray = camera_->rayAt(sx, sy);
     const glm::dvec3 p = ray.origin + *kept * ray.dir;
-    hit = Hit{p, fieldNormal(p, st, scratch), ray.dir, *kept};
-  } else {
-    // Outside the projection of every surface the ray misses for certain: not even set up.
-    if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
-        (field && !outlineMask_.empty() && outlineMaskMisses(sx, sy))) {
-      ++st.rays;
-      if (kept) *kept = std::numeric_limits<double>::infinity();
-      return std::nullopt;
-    }
-    hit = field ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
-    if (kept) *kept = hit ? hit->t : std::numeric_limits<double>::infinity();
+    return Hit{p, fieldNormal(p, st, scratch), ray.dir, *kept};
   }
+  // Outside the projection of every surface the ray misses for certain: not even set up.
+  if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
+      (field && !outlineMask_.empty() && outlineMaskMisses(sx, sy))) {
+    ++st.rays;
+    if (kept) *kept = std::numeric_limits<double>::infinity();
+    return std::nullopt;
+  }
+  std::optional<Hit> hit = field ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
+  if (kept) *kept = hit ? hit->t : std::numeric_limits<double>::infinity();
+  return hit;
+}
+
+double Renderer::cavityAt(const Hit& hit, bool field) const {
+  return field ? cavityOfDepth(field_.cavityDepth(hit.p.x, hit.p.y)) : 0.0;
+}
+
+std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
+                                             std::vector<std::uint32_t>& scratch, glm::vec3& normalOut, double* kept,
+                                             bool reuse) const {
+  normalOut = glm::vec3(0.0f);
+  const std::optional<Hit> hit = findHit(sx, sy, field, reach, st, scratch, kept, reuse);
   if (!hit) return std::nullopt;
   normalOut = glm::vec3(hit->n);
-  double cavity = 0.0;
-  if (field) {
-    cavity = cavityOfDepth(field_.cavityDepth(hit->p.x, hit->p.y));
-  }
+  const double cavity = cavityAt(*hit, field);
   Patina patina{};
   if (hasPatina_) {
     // The strokes of each tinge build up: 1 - prod(1 - amount), in any order.
@@ -218,9 +224,9 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   std::mutex statsMutex;
   std::atomic_bool aborted{false};
   const std::optional<std::chrono::steady_clock::time_point> deadline = deadline_;
-  // One pass: `pixel` over every pixel of `area` on the pool, its wall time per tile summed into
-  // the stats' `seconds`. A superseded frame stops within a row.
-  auto pass = [&](const PixelSpans& area, double RenderStats::*seconds, const auto& pixel) {
+  // One pass: `rowOf(y, x0, x1, ...)` over each tile's stretch of each row of `area` on the pool,
+  // its wall time per tile summed into the stats' `seconds`. A superseded frame stops within a row.
+  auto pass = [&](const PixelSpans& area, double RenderStats::*seconds, const auto& rowOf) {
     using Clock = std::chrono::steady_clock;
     return pool_.parallelFor2D(area.box, tileSize, [&](const Rect& tile) {
       thread_local std::vector<std::uint32_t> scratch;
@@ -232,8 +238,8 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
           return;
         }
         const PixelSpans::Span row = area.row(y);
-        const int x1 = std::min(tile.x + tile.w, row.x1);
-        for (int x = std::max(tile.x, row.x0); x < x1; ++x) pixel(x, y, st, scratch);
+        const int x0 = std::max(tile.x, row.x0), x1 = std::min(tile.x + tile.w, row.x1);
+        if (x0 < x1) rowOf(y, x0, x1, st, scratch);
       }
       st.*seconds = std::chrono::duration<double>(Clock::now() - start).count();
       std::lock_guard lock(statsMutex);
@@ -256,53 +262,89 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       std::fill(kept + static_cast<size_t>(band.y) * w, kept + static_cast<size_t>(band.y + band.h) * w, nan);
     });
   }
-  const bool traced = pass(ringSpans, &RenderStats::traceSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
-    const size_t i = at(x, y);
-    double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;
-    if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i], k, reuse)) centre[i] = glm::vec3(*c), hits[i] = 1;
+  // The first pass shades a row's hits together in SIMD lanes (the same bits as one at a time:
+  // shadeMetal(const ShadingParams&, ShadeBatch&)), or one at a time under a patina.
+  const bool lanes = !hasPatina_;
+  const bool traced = pass(ringSpans, &RenderStats::traceSeconds, [&](int y, int x0, int x1, RenderStats& st, std::vector<std::uint32_t>& scratch) {
+    if (!lanes) {
+      for (int x = x0; x < x1; ++x) {
+        const size_t i = at(x, y);
+        double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;
+        if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i], k, reuse)) centre[i] = glm::vec3(*c), hits[i] = 1;
+      }
+      return;
+    }
+    thread_local ShadeBatch batch;
+    thread_local std::array<size_t, ShadeBatch::kCapacity> slots;
+    auto flush = [&] {
+      shadeMetal(shading_, batch);
+      for (int j = 0; j < batch.n; ++j) centre[slots[static_cast<size_t>(j)]] = glm::vec3(glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
+      batch.n = 0;
+    };
+    batch.n = 0;
+    for (int x = x0; x < x1; ++x) {
+      const size_t i = at(x, y);
+      double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;
+      const std::optional<Hit> hit = findHit(x + 0.5, y + 0.5, field, reach, st, scratch, k, reuse);
+      if (!hit) {
+        normal[i] = glm::vec3(0.0f);
+        continue;
+      }
+      normal[i] = glm::vec3(hit->n), hits[i] = 1;
+      const int j = batch.n++;
+      slots[static_cast<size_t>(j)] = i;
+      batch.px[j] = hit->p.x, batch.py[j] = hit->p.y, batch.pz[j] = hit->p.z;
+      batch.nx[j] = hit->n.x, batch.ny[j] = hit->n.y, batch.nz[j] = hit->n.z;
+      batch.vx[j] = hit->dir.x, batch.vy[j] = hit->dir.y, batch.vz[j] = hit->dir.z;
+      batch.cavity[j] = cavityAt(*hit, field);
+      if (batch.full()) flush();
+    }
+    if (batch.n > 0) flush();
   });
   if (!traced) return false;
-  return pass(spans, &RenderStats::shadeSeconds, [&](int x, int y, RenderStats& st, std::vector<std::uint32_t>& scratch) {
-    const size_t i = at(x, y);
-    const bool hit = hits[i] != 0;
-    bool edge = false;
-    if (!antialias) {
-      // (one ray a pixel: no neighbour read)
-    } else if (x > ring.x && y > ring.y && x + 1 < ring.x + ring.w && y + 1 < ring.y + ring.h) {
-      // All four neighbours in the ring (nearly every pixel): the same test, unrolled.
-      const size_t l = i - 1, r = i + 1, u = i - static_cast<size_t>(ring.w), d = i + static_cast<size_t>(ring.w);
-      if (!hit) {
-        edge = (hits[l] | hits[r] | hits[u] | hits[d]) != 0;
-      } else if ((hits[l] & hits[r] & hits[u] & hits[d]) == 0) {
-        edge = true;
+  return pass(spans, &RenderStats::shadeSeconds, [&](int y, int x0, int x1, RenderStats& st, std::vector<std::uint32_t>& scratch) {
+    for (int x = x0; x < x1; ++x) {
+      const size_t i = at(x, y);
+      const bool hit = hits[i] != 0;
+      bool edge = false;
+      if (!antialias) {
+        // (one ray a pixel: no neighbour read)
+      } else if (x > ring.x && y > ring.y && x + 1 < ring.x + ring.w && y + 1 < ring.y + ring.h) {
+        // All four neighbours in the ring (nearly every pixel): the same test, unrolled.
+        const size_t l = i - 1, r = i + 1, u = i - static_cast<size_t>(ring.w), d = i + static_cast<size_t>(ring.w);
+        if (!hit) {
+          edge = (hits[l] | hits[r] | hits[u] | hits[d]) != 0;
+        } else if ((hits[l] & hits[r] & hits[u] & hits[d]) == 0) {
+          edge = true;
+        } else {
+          const glm::vec3 n = normal[i];
+          edge = glm::dot(n, normal[l]) < kCreaseCos || glm::dot(n, normal[r]) < kCreaseCos ||
+                 glm::dot(n, normal[u]) < kCreaseCos || glm::dot(n, normal[d]) < kCreaseCos;
+        }
       } else {
-        const glm::vec3 n = normal[i];
-        edge = glm::dot(n, normal[l]) < kCreaseCos || glm::dot(n, normal[r]) < kCreaseCos ||
-               glm::dot(n, normal[u]) < kCreaseCos || glm::dot(n, normal[d]) < kCreaseCos;
+        for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
+          const size_t j = at(nx, ny);
+          if ((hits[j] != 0) != hit || (hit && glm::dot(normal[i], normal[j]) < kCreaseCos)) edge = true;
+        }
       }
-    } else {
-      for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-        const int nx = x + dx, ny = y + dy;
-        if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
-        const size_t j = at(nx, ny);
-        if ((hits[j] != 0) != hit || (hit && glm::dot(normal[i], normal[j]) < kCreaseCos)) edge = true;
+      std::uint8_t* px = image.pixel(x, y);
+      if (!edge && !hit) {
+        const std::uint8_t* bd = &backdrops_[0].bytes[(static_cast<size_t>(y) * w + x) * 3];
+        px[0] = bd[0], px[1] = bd[1], px[2] = bd[2];
+      } else {
+        glm::dvec3 c = hit ? glm::dvec3(centre[i]) : glm::dvec3(glm::vec3(backdrop(x, y, w, h)));
+        if (edge) {
+          for (const auto& o : kEdgeSamples) c += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, reach, st, scratch);
+          c /= 3.0;
+          ++st.edgePixels;
+        }
+        const auto rgb = toSrgb8Fast(c);
+        px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2];
       }
+      px[3] = 255;
     }
-    std::uint8_t* px = image.pixel(x, y);
-    if (!edge && !hit) {
-      const std::uint8_t* bd = &backdrops_[0].bytes[(static_cast<size_t>(y) * w + x) * 3];
-      px[0] = bd[0], px[1] = bd[1], px[2] = bd[2];
-    } else {
-      glm::dvec3 c = hit ? glm::dvec3(centre[i]) : glm::dvec3(glm::vec3(backdrop(x, y, w, h)));
-      if (edge) {
-        for (const auto& o : kEdgeSamples) c += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, reach, st, scratch);
-        c /= 3.0;
-        ++st.edgePixels;
-      }
-      const auto rgb = toSrgb8Fast(c);
-      px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2];
-    }
-    px[3] = 255;
   });
 }
 

@@ -274,10 +274,15 @@ class Renderer {
   // Rays through image point (sx, sy) (pixel x's centre is x + 0.5).
   std::optional<Hit> traceExact(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
   std::optional<Hit> traceField(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
-  // The linear colour of the ray through (sx, sy) where it hits (normal gets the hit's unit
-  // normal), nothing where it misses (normal gets zero). Image points outside `reach` miss.
-  // `kept` (field tracer, optional): the pixel's kept hit, used when `reuse` and known, else
+  // The hit of the ray through (sx, sy), nothing where it misses. Image points outside `reach`
+  // miss. `kept` (field tracer, optional): the pixel's kept hit, used when `reuse` and known, else
   // written with what the trace found.
+  std::optional<Hit> findHit(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
+                             std::vector<std::uint32_t>& scratch, double* kept, bool reuse) const;
+  // The cavity term at a hit (field tracer; 0 for the exact one).
+  double cavityAt(const Hit& hit, bool field) const;
+  // The linear colour of the ray through (sx, sy) where it hits (normal gets the hit's unit
+  // normal), nothing where it misses (normal gets zero): findHit() shaded.
   std::optional<glm::dvec3> shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
                                      std::vector<std::uint32_t>& scratch, glm::vec3& normal, double* kept = nullptr,
                                      bool reuse = false) const;

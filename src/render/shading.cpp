@@ -3,6 +3,7 @@
 // scattering compensated), the planishing hammer's dimples, and occlusion in the cavities.
 #include "render/shading.h"
 
+#include "render/shade_lanes.h"
 #include "render/table_cache.h"
 #include "render/thread_pool.h"
 #include "util/portable_math.h"
@@ -144,6 +145,7 @@ class SphereMap {
   // A map from its texels (as texels() gave them: size * size of them).
   SphereMap(int size, std::vector<glm::vec3> texels) : size_(size), texels_(std::move(texels)) {}
   const std::vector<glm::vec3>& texels() const { return texels_; }
+  int size() const { return size_; }
   glm::dvec3 lookup(const glm::dvec3& d) const {
     const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
     double u = d.x / l1, v = d.y / l1;
@@ -461,6 +463,24 @@ glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dv
   const double open = 1.0 - 0.75 * std::clamp(cavity, 0.0, 1.0);
   const glm::dvec3 spec = t.specular.lookup(r) * ss + irradianceMap().lookup(n) * ms;
   return tint * spec * open;
+}
+
+void shadeMetal(const ShadingParams& s, ShadeBatch& batch) {
+  const MetalTables& t = tablesFor(s.metal);
+  MetalLaneParams p;
+  p.hammer = s.metal.hammer;
+  static_assert(sizeof(glm::dvec3) == 3 * sizeof(double) && sizeof(glm::vec3) == 3 * sizeof(float));
+  p.bins = MetalResponse::kBins;
+  p.single = &t.response.single[0].x;
+  p.albedo = t.response.albedo.data();
+  for (int c = 0; c < 3; ++c) p.fms[c] = t.response.fms[c];
+  p.specular = SphereTexels{t.specular.size(), &t.specular.texels()[0].x};
+  const SphereMap& irr = irradianceMap();
+  p.irradiance = SphereTexels{irr.size(), &irr.texels()[0].x};
+  p.frontZ = s.frontZ, p.tingeDepth = s.tingeDepth;
+  p.tingeStrength = s.tinge.strength;
+  for (int c = 0; c < 3; ++c) p.tingeColor[c] = s.tinge.color[static_cast<size_t>(c)];
+  shadeMetalLanes(p, batch);
 }
 
 void prepareShading(const Metal& metal, ThreadPool* pool) {

@@ -34,6 +34,11 @@ struct Patina {
 glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& view,
                       double cavity = 0.0, const Patina* patina = nullptr);
 
+struct ShadeBatch;
+// shadeMetal() for a batch of hits (render/shade_lanes.h) without a patina, in SIMD lanes: the
+// same bits, hit by hit, as one call each.
+void shadeMetal(const ShadingParams& s, ShadeBatch& batch);
+
 class ThreadPool;
 // Builds the metal's tables now, shared out over `pool` (else the first shadeMetal() call builds
 // them alone); Renderer::setShading() calls it. Not to be called from inside a pool job.
