@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "render/field_lanes.h"
 #include "render/leaf_bounds.h"
 #include "render/shading.h"
 
@@ -319,6 +320,18 @@ void HeightField::updateCavity(const SampleRect& r) {
 double HeightField::cavityDepth(double x, double y) const {
   if (cavity_.empty()) return 0.0;
   return bilinear(x, y, [&](size_t k) { return cavity_[k]; });
+}
+
+void HeightField::valuesAndGradients(const double* x, const double* y, int n, double* v, double* gx, double* gy) const {
+  static_assert(sizeof(Sample) == 4 * sizeof(float));
+  const int done = hermiteLanes(SampleLattice{x0_, y0_, s_, invS_, nx_, ny_, &samples_[0].d}, x, y, n, v, gx, gy);
+  for (int k = done; k < n; ++k) valueAndGradient(x[k], y[k], v[k], gx[k], gy[k]);
+}
+
+void HeightField::cavityDepths(const double* x, const double* y, int n, double* out) const {
+  int done = 0;
+  if (!cavity_.empty()) done = bilinearLanes(FloatLattice{x0_, y0_, invS_, nx_, ny_, cavity_.data()}, x, y, n, out);
+  for (int k = done; k < n; ++k) out[k] = cavityDepth(x[k], y[k]);
 }
 
 void HeightField::updateLevels(int la0, int lb0, int la1, int lb1) {

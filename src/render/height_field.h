@@ -116,6 +116,9 @@ class HeightField {
   // D at (x, y) (inside domain()); with its gradient.
   double value(double x, double y) const;
   void valueAndGradient(double x, double y, double& v, double& gx, double& gy) const;
+  // valueAndGradient() at n points at once (SIMD lanes where whole vectors of them fill; the same
+  // bits).
+  void valuesAndGradients(const double* x, const double* y, int n, double* v, double* gx, double* gy) const;
   // D bilinear between the four samples around (x, y) (clamped to the domain): about a third of
   // value()'s work, for what needs D only roughly (the shading's cavity term).
   double valueBilinear(double x, double y) const;
@@ -125,6 +128,8 @@ class HeightField {
   // reads D within cavityReachSamples() of it, so finish(r) refreshes it that far around r.
   double cavityDepth(double x, double y) const;
   int cavityReachSamples() const { return cavityReach_; }
+  // cavityDepth() at n points at once (SIMD lanes where whole vectors of them fill; the same bits).
+  void cavityDepths(const double* x, const double* y, int n, double* out) const;
   // Bounds over a box inside domain() (callers check containsBox()).
   Bound bound(const Box2& b) const;
   // Bounds over the whole lattice.

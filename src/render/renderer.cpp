@@ -131,7 +131,8 @@ glm::dvec3 Renderer::sample(double sx, double sy, bool field, const Rect& reach,
 }
 
 std::optional<Renderer::Hit> Renderer::findHit(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                                               std::vector<std::uint32_t>& scratch, double* kept, bool reuse) const {
+                                               std::vector<std::uint32_t>& scratch, double* kept, bool reuse,
+                                               bool normal) const {
   if (kept && reuse && !std::isnan(*kept)) {
     // The hit the ray found before, which no change since can have moved: the same point (the
     // same t on the same ray), its normal from the field as the trace gives it.
@@ -139,7 +140,7 @@ std::optional<Renderer::Hit> Renderer::findHit(double sx, double sy, bool field,
     if (std::isinf(*kept)) return std::nullopt;
     const Ray ray = camera_->rayAt(sx, sy);
     const glm::dvec3 p = ray.origin + *kept * ray.dir;
-    return Hit{p, fieldNormal(p, st, scratch), ray.dir, *kept};
+    return Hit{p, normal ? fieldNormal(p, st, scratch) : glm::dvec3(0.0), ray.dir, *kept};
   }
   // Outside the projection of every surface the ray misses for certain: not even set up.
   if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
@@ -148,13 +149,9 @@ std::optional<Renderer::Hit> Renderer::findHit(double sx, double sy, bool field,
     if (kept) *kept = std::numeric_limits<double>::infinity();
     return std::nullopt;
   }
-  std::optional<Hit> hit = field ? traceField(sx, sy, st, scratch) : traceExact(sx, sy, st, scratch);
+  std::optional<Hit> hit = field ? traceField(sx, sy, st, scratch, normal) : traceExact(sx, sy, st, scratch);
   if (kept) *kept = hit ? hit->t : std::numeric_limits<double>::infinity();
   return hit;
-}
-
-double Renderer::cavityAt(const Hit& hit, bool field) const {
-  return field ? cavityOfDepth(field_.cavityDepth(hit.p.x, hit.p.y)) : 0.0;
 }
 
 std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
@@ -164,7 +161,7 @@ std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, c
   const std::optional<Hit> hit = findHit(sx, sy, field, reach, st, scratch, kept, reuse);
   if (!hit) return std::nullopt;
   normalOut = glm::vec3(hit->n);
-  const double cavity = cavityAt(*hit, field);
+  const double cavity = field ? cavityOfDepth(field_.cavityDepth(hit->p.x, hit->p.y)) : 0.0;
   Patina patina{};
   if (hasPatina_) {
     // The strokes of each tinge build up: 1 - prod(1 - amount), in any order.
@@ -274,9 +271,26 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       }
       return;
     }
+    // The field tracer's hits get their normals and cavities here, the field's reads of them in
+    // lanes too (HeightField::valuesAndGradients, cavityDepths: the same bits as one at a time).
     thread_local ShadeBatch batch;
     thread_local std::array<size_t, ShadeBatch::kCapacity> slots;
+    thread_local std::array<double, ShadeBatch::kCapacity> dv, dgx, dgy;
     auto flush = [&] {
+      if (field) {
+        field_.valuesAndGradients(batch.px, batch.py, batch.n, dv.data(), dgx.data(), dgy.data());
+        for (int j = 0; j < batch.n; ++j) {
+          const auto jj = static_cast<size_t>(j);
+          const Grad d(dv[jj], dgx[jj], dgy[jj], 0.0);
+          const glm::dvec3 n = fieldNormal(glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]), st, scratch, &d);
+          normal[slots[jj]] = glm::vec3(n);
+          batch.nx[j] = n.x, batch.ny[j] = n.y, batch.nz[j] = n.z;
+        }
+        field_.cavityDepths(batch.px, batch.py, batch.n, batch.cavity);
+        for (int j = 0; j < batch.n; ++j) batch.cavity[j] = cavityOfDepth(batch.cavity[j]);
+      } else {
+        std::fill_n(batch.cavity, batch.n, 0.0);
+      }
       shadeMetal(shading_, batch);
       for (int j = 0; j < batch.n; ++j) centre[slots[static_cast<size_t>(j)]] = glm::vec3(glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
       batch.n = 0;
@@ -285,18 +299,15 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     for (int x = x0; x < x1; ++x) {
       const size_t i = at(x, y);
       double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;
-      const std::optional<Hit> hit = findHit(x + 0.5, y + 0.5, field, reach, st, scratch, k, reuse);
-      if (!hit) {
-        normal[i] = glm::vec3(0.0f);
-        continue;
-      }
-      normal[i] = glm::vec3(hit->n), hits[i] = 1;
+      const std::optional<Hit> hit = findHit(x + 0.5, y + 0.5, field, reach, st, scratch, k, reuse, !field);
+      if (!hit) continue;  // (a miss's normal is never read: `hits` says it missed)
+      hits[i] = 1;
+      if (!field) normal[i] = glm::vec3(hit->n);
       const int j = batch.n++;
       slots[static_cast<size_t>(j)] = i;
       batch.px[j] = hit->p.x, batch.py[j] = hit->p.y, batch.pz[j] = hit->p.z;
       batch.nx[j] = hit->n.x, batch.ny[j] = hit->n.y, batch.nz[j] = hit->n.z;
       batch.vx[j] = hit->dir.x, batch.vy[j] = hit->dir.y, batch.vz[j] = hit->dir.z;
-      batch.cavity[j] = cavityAt(*hit, field);
       if (batch.full()) flush();
     }
     if (batch.n > 0) flush();

@@ -273,14 +273,16 @@ class Renderer {
 
   // Rays through image point (sx, sy) (pixel x's centre is x + 0.5).
   std::optional<Hit> traceExact(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
-  std::optional<Hit> traceField(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  // Without `normal`, the hit's n is left zero: the caller finds it (fieldNormal()).
+  std::optional<Hit> traceField(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                                bool normal = true) const;
   // The hit of the ray through (sx, sy), nothing where it misses. Image points outside `reach`
   // miss. `kept` (field tracer, optional): the pixel's kept hit, used when `reuse` and known, else
-  // written with what the trace found.
+  // written with what the trace found. Without `fieldNormal`, a field tracer's hit comes without
+  // its normal (n zero), for the caller to find.
   std::optional<Hit> findHit(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                             std::vector<std::uint32_t>& scratch, double* kept, bool reuse) const;
-  // The cavity term at a hit (field tracer; 0 for the exact one).
-  double cavityAt(const Hit& hit, bool field) const;
+                             std::vector<std::uint32_t>& scratch, double* kept, bool reuse,
+                             bool fieldNormal = true) const;
   // The linear colour of the ray through (sx, sy) where it hits (normal gets the hit's unit
   // normal), nothing where it misses (normal gets zero): findHit() shaded.
   std::optional<glm::dvec3> shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
@@ -298,7 +300,10 @@ class Renderer {
   double sheetValue(const glm::dvec3& p) const;
   bool fieldExcluded(const RayContext& rc, const glm::dvec3& a, const glm::dvec3& b, RenderStats& st,
                      std::vector<std::uint32_t>& scratch) const;
-  glm::dvec3 fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch) const;
+  // The unit normal of the field model at p. `d`: D and its slopes at p as the field gives them
+  // (HeightField::valuesAndGradients()), for the field not to be read again.
+  glm::dvec3 fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                         const Grad* d = nullptr) const;
   Rect projectBox(const Box3& b) const { return projectBox(*camera_, b); }
   static Rect projectBox(const Camera& camera, const Box3& b);
   // The pixels near the projection of a support's convex pieces grown by `grow` (mm), between the

@@ -188,14 +188,19 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   return hi < -kPruneEps;
 }
 
-glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch) const {
+glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                                  const Grad* fieldD) const {
   ++st.evaluations;
   const P3<Grad> q{Grad(p.x, 1, 0, 0), Grad(p.y, 0, 1, 0), Grad(p.z, 0, 0, 1)};
   Grad d;
   if (field_.contains(p.x, p.y)) {
-    double v, gx, gy;
-    field_.valueAndGradient(p.x, p.y, v, gx, gy);
-    d = Grad(v, gx, gy, 0.0);
+    if (fieldD) {
+      d = *fieldD;
+    } else {
+      double v, gx, gy;
+      field_.valueAndGradient(p.x, p.y, v, gx, gy);
+      d = Grad(v, gx, gy, 0.0);
+    }
     ++st.fieldEvaluations;
   } else {
     d = exactDisplacement(q, grid_.at(p.x, p.y, scratch), st);
@@ -219,7 +224,7 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
 }
 
 std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderStats& st,
-                                                  std::vector<std::uint32_t>& scratch) const {
+                                                  std::vector<std::uint32_t>& scratch, bool normal) const {
   const Ray ray = camera_->rayAt(sx, sy);
   ++st.rays;
   double t0, t1;
@@ -503,7 +508,7 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   if (!tHit) return std::nullopt;
   ++st.hits;
   const glm::dvec3 p = ray.origin + *tHit * ray.dir;
-  return Hit{p, fieldNormal(p, st, scratch), ray.dir, *tHit};
+  return Hit{p, normal ? fieldNormal(p, st, scratch) : glm::dvec3(0.0), ray.dir, *tHit};
 }
 
 

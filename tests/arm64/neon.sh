@@ -11,10 +11,10 @@
 set -uo pipefail
 build="$1/arm64"; top="$2"
 # The tests of what has SIMD lanes or must be the same bits on any instruction set: the rows of
-# SIMD (LeafBounds, PathRows, ShadeLanes), the field and its updates, the shading, dirty updates
-# against full frames. A test takes 20 to 50 times as long under qemu as natively: the whole suite
-# is left to platform/debian/cross-arm64.sh.
-filter="${3:-LeafBounds.*:PathRows.*:ShadeLanes.*:Shading.*:FieldSync.*:HeightField.IncrementalUpdatesEqualAFullBuildBitForBit:HeightField.ErrorAgainstTheExactSumIsSmall:DirtyRegion.SheetPlateEqualsFullRender:DirtyRegion.SheetVmOutlineEqualsFullRender:DirtyRegion.ATangleOfBlendBeadsEndsAsAFullRender}"
+# SIMD (LeafBounds, PathRows, ShadeLanes, FieldLanes), the field and its updates, the shading, dirty
+# updates against full frames. A test takes 20 to 50 times as long under qemu as natively: the whole
+# suite is left to platform/debian/cross-arm64.sh.
+filter="${3:-LeafBounds.*:PathRows.*:ShadeLanes.*:FieldLanes.*:Shading.*:FieldSync.*:HeightField.IncrementalUpdatesEqualAFullBuildBitForBit:HeightField.ErrorAgainstTheExactSumIsSmall:DirtyRegion.SheetPlateEqualsFullRender:DirtyRegion.SheetVmOutlineEqualsFullRender:DirtyRegion.ATangleOfBlendBeadsEndsAsAFullRender}"
 say() { echo "arm64: $*" >&2; }
 command -v aarch64-linux-gnu-g++ >/dev/null || { say "no aarch64-linux-gnu-g++ (bash platform/debian/cross-arm64.sh --set-up) -- skipped"; exit 77; }
 qemu="$(command -v qemu-aarch64-static || command -v qemu-aarch64)" || { say "no qemu-user (bash platform/debian/cross-arm64.sh --set-up) -- skipped"; exit 77; }
