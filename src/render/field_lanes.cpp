@@ -16,25 +16,37 @@ namespace emboss {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+constexpr size_t kMaxLanes = 32;  // doubles in the widest vector (SVE, 2048 bits)
+
+// The cells of the lanes' points (fx, fy in cells from the lattice's origin): i = clamp(int(fx), 0,
+// nx - 2) (the conversion truncates, as the cast does) and u = fx - i, likewise j and w; and each
+// lane's first sample, j nx + i, stored for the reads lane by lane (a gather by another name).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void Cells(D d, V fx, V fy, int nx, int ny, V& u, V& w, int32_t* first) {
+  const hn::Rebind<int32_t, D> di;
+  const auto zero = hn::Zero(di);
+  const auto i = hn::Min(hn::Max(hn::DemoteTo(di, fx), zero), hn::Set(di, nx - 2));
+  const auto j = hn::Min(hn::Max(hn::DemoteTo(di, fy), zero), hn::Set(di, ny - 2));
+  u = hn::Sub(fx, hn::PromoteTo(d, i)), w = hn::Sub(fy, hn::PromoteTo(d, j));
+  hn::StoreU(hn::Add(hn::Mul(j, hn::Set(di, nx)), i), di, first);
+}
+
 int BilinearLanes(const FloatLattice& l, const double* xs, const double* ys, int n, double* out) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
-  const hn::Rebind<int32_t, decltype(d)> di;
   const int lanes = static_cast<int>(hn::Lanes(d));
-  constexpr size_t kMax = 32;  // doubles in the widest vector (SVE, 2048 bits)
-  HWY_ALIGN int32_t first[kMax];
-  HWY_ALIGN double t[4][kMax];
+  HWY_ALIGN int32_t first[kMaxLanes];
+  HWY_ALIGN double t[4][kMaxLanes];
   const V x0 = hn::Set(d, l.x0), y0 = hn::Set(d, l.y0), invS = hn::Set(d, l.invS), zero = hn::Zero(d);
   const V xMax = hn::Set(d, l.nx - 1.0), yMax = hn::Set(d, l.ny - 1.0);
-  const auto iMax = hn::Set(di, l.nx - 2), jMax = hn::Set(di, l.ny - 2), nx = hn::Set(di, l.nx);
   int k = 0;
   for (; k + lanes <= n; k += lanes) {
-    // std::clamp((x - x0) invS, 0, nx - 1), and the cell below it (at most the last one).
+    // std::clamp((x - x0) invS, 0, nx - 1), and the cell below it (at most the last one: the
+    // point is not below the first, so min(int(fx), nx - 2) is the clamp).
     const V fx = hn::Min(hn::Max(hn::Mul(hn::Sub(hn::LoadU(d, xs + k), x0), invS), zero), xMax);
     const V fy = hn::Min(hn::Max(hn::Mul(hn::Sub(hn::LoadU(d, ys + k), y0), invS), zero), yMax);
-    const auto i = hn::Min(hn::DemoteTo(di, fx), iMax), j = hn::Min(hn::DemoteTo(di, fy), jMax);
-    const V u = hn::Sub(fx, hn::PromoteTo(d, i)), v = hn::Sub(fy, hn::PromoteTo(d, j));
-    hn::StoreU(hn::Add(hn::Mul(j, nx), i), di, first);
+    V u, v;
+    Cells(d, fx, fy, l.nx, l.ny, u, v, first);
     for (int q = 0; q < lanes; ++q) {
       const float* r0 = l.values + static_cast<size_t>(static_cast<uint32_t>(first[q]));
       const float* r1 = r0 + l.nx;
@@ -81,22 +93,16 @@ int HermiteLanes(const SampleLattice& l, const double* xs, const double* ys, int
                  double* outGy) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
-  const hn::Rebind<int32_t, decltype(d)> di;
   const int lanes = static_cast<int>(hn::Lanes(d));
-  constexpr size_t kMax = 32;  // doubles in the widest vector (SVE, 2048 bits)
-  HWY_ALIGN int32_t first[kMax];
+  HWY_ALIGN int32_t first[kMaxLanes];
   // The four corners' samples (00, 10, 01, 11), four floats each, lane by lane.
-  HWY_ALIGN double t[16][kMax];
+  HWY_ALIGN double t[16][kMaxLanes];
   const V x0 = hn::Set(d, l.x0), y0 = hn::Set(d, l.y0), invS = hn::Set(d, l.invS), s = hn::Set(d, l.s);
-  const auto zero = hn::Zero(di), iMax = hn::Set(di, l.nx - 2), jMax = hn::Set(di, l.ny - 2), nx = hn::Set(di, l.nx);
   int k = 0;
   for (; k + lanes <= n; k += lanes) {
     const V fx = hn::Mul(hn::Sub(hn::LoadU(d, xs + k), x0), invS), fy = hn::Mul(hn::Sub(hn::LoadU(d, ys + k), y0), invS);
-    // std::clamp(int(f), 0, n - 2): the conversion truncates, as the cast does.
-    const auto i = hn::Min(hn::Max(hn::DemoteTo(di, fx), zero), iMax);
-    const auto j = hn::Min(hn::Max(hn::DemoteTo(di, fy), zero), jMax);
-    const V u = hn::Sub(fx, hn::PromoteTo(d, i)), w = hn::Sub(fy, hn::PromoteTo(d, j));
-    hn::StoreU(hn::Add(hn::Mul(j, nx), i), di, first);
+    V u, w;
+    Cells(d, fx, fy, l.nx, l.ny, u, w, first);
     for (int q = 0; q < lanes; ++q) {
       const float* r0 = l.samples + static_cast<size_t>(static_cast<uint32_t>(first[q])) * 4;
       const float* r1 = r0 + static_cast<size_t>(l.nx) * 4;

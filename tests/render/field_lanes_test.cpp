@@ -18,98 +18,90 @@ namespace {
 
 bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-TEST(FieldLanes, CavityDepthsAreTheOnePointReadsOnEveryTarget) {
-  PieceOptions opt;
-  opt.width = 100, opt.height = 70;
-  auto model = generatePiece(600, 11, opt).makeModel();
-  ASSERT_TRUE(model.ok()) << model.error();
-  ThreadPool pool(2);
-  Renderer renderer(pool);
-  renderer.sync(*model);
-  const HeightField& f = renderer.field();
-  const Box2 dom = f.domain();
-  // Points inside the domain, on its edges, and beyond them (clamped to the edge samples), and
-  // exactly on samples.
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> ux(dom.x0 - 3.0, dom.x1 + 3.0), uy(dom.y0 - 3.0, dom.y1 + 3.0);
-  std::uniform_int_distribution<int> si(0, f.nx() - 1), sj(0, f.ny() - 1);
-  std::vector<double> x, y;
-  for (int k = 0; k < 20000; ++k) {
-    if (k % 7 == 0) {
-      x.push_back(f.sampleX(si(rng))), y.push_back(f.sampleY(sj(rng)));
-    } else {
-      x.push_back(ux(rng)), y.push_back(uy(rng));
+// A dense piece's renderer (2 threads), its field built, and points to read the field at: inside
+// its domain, on its edges, `beyond` it by up to 3 mm (clamped to the edge samples), and exactly
+// on samples.
+struct SyncedField {
+  SyncedField(unsigned seed, double beyond) : renderer(pool) {
+    PieceOptions opt;
+    opt.width = 100, opt.height = 70;
+    auto model = generatePiece(600, seed, opt).makeModel();
+    if (!model.ok()) throw std::runtime_error(model.error());
+    renderer.sync(*model);
+    const HeightField& f = field();
+    const Box2 dom = f.domain();
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> ux(dom.x0 - beyond, dom.x1 + beyond), uy(dom.y0 - beyond, dom.y1 + beyond);
+    std::uniform_int_distribution<int> si(0, f.nx() - 1), sj(0, f.ny() - 1);
+    for (int k = 0; k < 20000; ++k) {
+      if (k % 7 == 0)
+        x.push_back(f.sampleX(si(rng))), y.push_back(f.sampleY(sj(rng)));
+      else if (k % 11 == 0)
+        x.push_back(k % 2 ? dom.x0 : dom.x1), y.push_back(uy(rng));
+      else
+        x.push_back(ux(rng)), y.push_back(uy(rng));
     }
   }
-  int targets = 0;
-  long deep = 0;
-  for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
-    hwy::SetSupportedTargetsForTest(target);
-    ++targets;
-    // Runs of every length from 1 to 37 points (whole vectors and a remainder).
-    size_t k = 0;
-    for (int len = 1; k + static_cast<size_t>(len) <= x.size(); len = len % 37 + 1) {
-      double out[37];
-      f.cavityDepths(&x[k], &y[k], len, out);
-      for (int q = 0; q < len; ++q) {
-        const double want = f.cavityDepth(x[k + static_cast<size_t>(q)], y[k + static_cast<size_t>(q)]);
-        ASSERT_TRUE(sameBits(out[q], want)) << hwy::TargetName(target) << ": point " << k + static_cast<size_t>(q)
-                                            << " lanes " << out[q] << ", one at a time " << want;
-        deep += want > 0.05;
+  const HeightField& field() const { return renderer.field(); }
+  // For every SIMD target: `read(target, k, len)` over runs of every length from 1 to 37 points
+  // (whole vectors of lanes and a remainder) from point k. Returns the targets tried.
+  template <class Read>
+  int onEveryTarget(const Read& read) const {
+    int targets = 0;
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+      hwy::SetSupportedTargetsForTest(target);
+      ++targets;
+      size_t k = 0;
+      for (int len = 1; k + static_cast<size_t>(len) <= x.size(); len = len % 37 + 1) {
+        if (!read(hwy::TargetName(target), k, len)) break;
+        k += static_cast<size_t>(len);
       }
-      k += static_cast<size_t>(len);
     }
+    hwy::SetSupportedTargetsForTest(0);
+    return targets;
   }
-  hwy::SetSupportedTargetsForTest(0);
+  ThreadPool pool{2};
+  Renderer renderer;
+  std::vector<double> x, y;
+};
+
+TEST(FieldLanes, CavityDepthsAreTheOnePointReadsOnEveryTarget) {
+  const SyncedField p(11, 3.0);
+  long deep = 0;
+  const int targets = p.onEveryTarget([&](const char* target, size_t k, int len) {
+    double out[37];
+    p.field().cavityDepths(&p.x[k], &p.y[k], len, out);
+    for (int q = 0; q < len; ++q) {
+      const size_t at = k + static_cast<size_t>(q);
+      const double want = p.field().cavityDepth(p.x[at], p.y[at]);
+      EXPECT_TRUE(sameBits(out[q], want)) << target << ": point " << at << " lanes " << out[q] << ", one at a time " << want;
+      if (!sameBits(out[q], want)) return false;
+      deep += want > 0.05;
+    }
+    return true;
+  });
   EXPECT_GE(targets, 1);
   EXPECT_GT(deep, 100);  // the piece has cavities: the reads are not all zero
 }
 
 TEST(FieldLanes, ValuesAndGradientsAreTheOnePointReadsOnEveryTarget) {
-  PieceOptions opt;
-  opt.width = 100, opt.height = 70;
-  auto model = generatePiece(600, 13, opt).makeModel();
-  ASSERT_TRUE(model.ok()) << model.error();
-  ThreadPool pool(2);
-  Renderer renderer(pool);
-  renderer.sync(*model);
-  const HeightField& f = renderer.field();
-  const Box2 dom = f.domain();
-  // Points inside the domain and on its edges (where the renderer reads the field), and exactly
-  // on samples.
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> ux(dom.x0, dom.x1), uy(dom.y0, dom.y1);
-  std::uniform_int_distribution<int> si(0, f.nx() - 1), sj(0, f.ny() - 1);
-  std::vector<double> x, y;
-  for (int k = 0; k < 20000; ++k) {
-    if (k % 7 == 0)
-      x.push_back(f.sampleX(si(rng))), y.push_back(f.sampleY(sj(rng)));
-    else if (k % 11 == 0)
-      x.push_back(k % 2 ? dom.x0 : dom.x1), y.push_back(uy(rng));
-    else
-      x.push_back(ux(rng)), y.push_back(uy(rng));
-  }
-  int targets = 0;
+  const SyncedField p(13, 0.0);  // (the renderer reads D inside the domain only)
   long sloped = 0;
-  for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
-    hwy::SetSupportedTargetsForTest(target);
-    ++targets;
-    size_t k = 0;
-    for (int len = 1; k + static_cast<size_t>(len) <= x.size(); len = len % 37 + 1) {
-      double v[37], gx[37], gy[37];
-      f.valuesAndGradients(&x[k], &y[k], len, v, gx, gy);
-      for (int q = 0; q < len; ++q) {
-        double wv, wgx, wgy;
-        f.valueAndGradient(x[k + static_cast<size_t>(q)], y[k + static_cast<size_t>(q)], wv, wgx, wgy);
-        ASSERT_TRUE(sameBits(v[q], wv) && sameBits(gx[q], wgx) && sameBits(gy[q], wgy))
-            << hwy::TargetName(target) << ": point " << k + static_cast<size_t>(q) << " lanes " << v[q] << " " << gx[q]
-            << " " << gy[q] << ", one at a time " << wv << " " << wgx << " " << wgy;
-        sloped += std::abs(wgx) + std::abs(wgy) > 0.1;
-      }
-      k += static_cast<size_t>(len);
+  const int targets = p.onEveryTarget([&](const char* target, size_t k, int len) {
+    double v[37], gx[37], gy[37];
+    p.field().valuesAndGradients(&p.x[k], &p.y[k], len, v, gx, gy);
+    for (int q = 0; q < len; ++q) {
+      const size_t at = k + static_cast<size_t>(q);
+      double wv, wgx, wgy;
+      p.field().valueAndGradient(p.x[at], p.y[at], wv, wgx, wgy);
+      const bool same = sameBits(v[q], wv) && sameBits(gx[q], wgx) && sameBits(gy[q], wgy);
+      EXPECT_TRUE(same) << target << ": point " << at << " lanes " << v[q] << " " << gx[q] << " " << gy[q]
+                        << ", one at a time " << wv << " " << wgx << " " << wgy;
+      if (!same) return false;
+      sloped += std::abs(wgx) + std::abs(wgy) > 0.1;
     }
-  }
-  hwy::SetSupportedTargetsForTest(0);
+    return true;
+  });
   EXPECT_GE(targets, 1);
   EXPECT_GT(sloped, 1000);  // the piece has relief: the slopes are not all zero
 }
