@@ -324,6 +324,10 @@ double HeightField::cavityDepth(double x, double y) const {
 
 void HeightField::valuesAndGradients(const double* x, const double* y, int n, double* v, double* gx, double* gy) const {
   static_assert(sizeof(Sample) == 4 * sizeof(float));
+  if (samples_.empty()) {  // not configured: D is 0 everywhere
+    std::fill_n(v, n, 0.0), std::fill_n(gx, n, 0.0), std::fill_n(gy, n, 0.0);
+    return;
+  }
   const int done = hermiteLanes(SampleLattice{x0_, y0_, s_, invS_, nx_, ny_, &samples_[0].d}, x, y, n, v, gx, gy);
   for (int k = done; k < n; ++k) valueAndGradient(x[k], y[k], v[k], gx[k], gy[k]);
 }
