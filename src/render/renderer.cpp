@@ -259,9 +259,41 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       std::fill(kept + static_cast<size_t>(band.y) * w, kept + static_cast<size_t>(band.y + band.h) * w, nan);
     });
   }
-  // The first pass shades a row's hits together in SIMD lanes (the same bits as one at a time:
+  // Both passes shade their hits a batch at a time in SIMD lanes (the same bits as one at a time:
   // shadeMetal(const ShadingParams&, ShadeBatch&)), or one at a time under a patina.
   const bool lanes = !hasPatina_;
+  // Finishes a batch of hits: the field tracer's get their normals here (D's slopes at them read
+  // in lanes too: HeightField::valuesAndGradients) and their cavities (cavityDepths); then the
+  // metal. normalOf(j, n) gets a field hit's normal, colourOf(j, c) every hit's colour.
+  auto finish = [&](ShadeBatch& batch, RenderStats& st, std::vector<std::uint32_t>& scratch, const auto& normalOf,
+                    const auto& colourOf) {
+    thread_local std::array<double, ShadeBatch::kCapacity> dv, dgx, dgy;
+    if (field) {
+      field_.valuesAndGradients(batch.px, batch.py, batch.n, dv.data(), dgx.data(), dgy.data());
+      for (int j = 0; j < batch.n; ++j) {
+        const auto jj = static_cast<size_t>(j);
+        const Grad d(dv[jj], dgx[jj], dgy[jj], 0.0);
+        const glm::dvec3 n = fieldNormal(glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]), st, scratch, &d);
+        normalOf(j, n);
+        batch.nx[j] = n.x, batch.ny[j] = n.y, batch.nz[j] = n.z;
+      }
+      field_.cavityDepths(batch.px, batch.py, batch.n, batch.cavity);
+      for (int j = 0; j < batch.n; ++j) batch.cavity[j] = cavityOfDepth(batch.cavity[j]);
+    } else {
+      std::fill_n(batch.cavity, batch.n, 0.0);
+    }
+    shadeMetal(shading_, batch);
+    for (int j = 0; j < batch.n; ++j) colourOf(j, glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
+    batch.n = 0;
+  };
+  // A hit into the batch (its normal too when the exact tracer found it).
+  auto add = [](ShadeBatch& batch, const Hit& hit) {
+    const int j = batch.n++;
+    batch.px[j] = hit.p.x, batch.py[j] = hit.p.y, batch.pz[j] = hit.p.z;
+    batch.nx[j] = hit.n.x, batch.ny[j] = hit.n.y, batch.nz[j] = hit.n.z;
+    batch.vx[j] = hit.dir.x, batch.vy[j] = hit.dir.y, batch.vz[j] = hit.dir.z;
+    return j;
+  };
   const bool traced = pass(ringSpans, &RenderStats::traceSeconds, [&](int y, int x0, int x1, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     if (!lanes) {
       for (int x = x0; x < x1; ++x) {
@@ -271,29 +303,11 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       }
       return;
     }
-    // The field tracer's hits get their normals and cavities here, the field's reads of them in
-    // lanes too (HeightField::valuesAndGradients, cavityDepths: the same bits as one at a time).
     thread_local ShadeBatch batch;
     thread_local std::array<size_t, ShadeBatch::kCapacity> slots;
-    thread_local std::array<double, ShadeBatch::kCapacity> dv, dgx, dgy;
-    auto flush = [&] {
-      if (field) {
-        field_.valuesAndGradients(batch.px, batch.py, batch.n, dv.data(), dgx.data(), dgy.data());
-        for (int j = 0; j < batch.n; ++j) {
-          const auto jj = static_cast<size_t>(j);
-          const Grad d(dv[jj], dgx[jj], dgy[jj], 0.0);
-          const glm::dvec3 n = fieldNormal(glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]), st, scratch, &d);
-          normal[slots[jj]] = glm::vec3(n);
-          batch.nx[j] = n.x, batch.ny[j] = n.y, batch.nz[j] = n.z;
-        }
-        field_.cavityDepths(batch.px, batch.py, batch.n, batch.cavity);
-        for (int j = 0; j < batch.n; ++j) batch.cavity[j] = cavityOfDepth(batch.cavity[j]);
-      } else {
-        std::fill_n(batch.cavity, batch.n, 0.0);
-      }
-      shadeMetal(shading_, batch);
-      for (int j = 0; j < batch.n; ++j) centre[slots[static_cast<size_t>(j)]] = glm::vec3(glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
-      batch.n = 0;
+    const auto flush = [&] {
+      finish(batch, st, scratch, [&](int j, const glm::dvec3& n) { normal[slots[static_cast<size_t>(j)]] = glm::vec3(n); },
+             [&](int j, const glm::dvec3& c) { centre[slots[static_cast<size_t>(j)]] = glm::vec3(c); });
     };
     batch.n = 0;
     for (int x = x0; x < x1; ++x) {
@@ -303,58 +317,98 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       if (!hit) continue;  // (a miss's normal is never read: `hits` says it missed)
       hits[i] = 1;
       if (!field) normal[i] = glm::vec3(hit->n);
-      const int j = batch.n++;
-      slots[static_cast<size_t>(j)] = i;
-      batch.px[j] = hit->p.x, batch.py[j] = hit->p.y, batch.pz[j] = hit->p.z;
-      batch.nx[j] = hit->n.x, batch.ny[j] = hit->n.y, batch.nz[j] = hit->n.z;
-      batch.vx[j] = hit->dir.x, batch.vy[j] = hit->dir.y, batch.vz[j] = hit->dir.z;
+      slots[static_cast<size_t>(add(batch, *hit))] = i;
       if (batch.full()) flush();
     }
     if (batch.n > 0) flush();
   });
   if (!traced) return false;
+  // Whether pixel i = (x, y) is an edge: it differs from a neighbour in hitting, or its normal
+  // from a neighbour's by more than the crease angle.
+  auto edgeAt = [&](int x, int y, size_t i, bool hit) {
+    if (!antialias) return false;  // (one ray a pixel: no neighbour read)
+    if (x > ring.x && y > ring.y && x + 1 < ring.x + ring.w && y + 1 < ring.y + ring.h) {
+      // All four neighbours in the ring (nearly every pixel): the same test, unrolled.
+      const size_t l = i - 1, r = i + 1, u = i - static_cast<size_t>(ring.w), d = i + static_cast<size_t>(ring.w);
+      if (!hit) return (hits[l] | hits[r] | hits[u] | hits[d]) != 0;
+      if ((hits[l] & hits[r] & hits[u] & hits[d]) == 0) return true;
+      const glm::vec3 n = normal[i];
+      return glm::dot(n, normal[l]) < kCreaseCos || glm::dot(n, normal[r]) < kCreaseCos ||
+             glm::dot(n, normal[u]) < kCreaseCos || glm::dot(n, normal[d]) < kCreaseCos;
+    }
+    bool edge = false;
+    for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
+      const size_t j = at(nx, ny);
+      if ((hits[j] != 0) != hit || (hit && glm::dot(normal[i], normal[j]) < kCreaseCos)) edge = true;
+    }
+    return edge;
+  };
+  auto put = [&](int x, int y, const glm::dvec3& c) {
+    std::uint8_t* px = image.pixel(x, y);
+    const auto rgb = toSrgb8Fast(c);
+    px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2], px[3] = 255;
+  };
+  // The second pass: a pixel from its centre sample, or on an edge from that and two more rays
+  // inside it (their hits shaded together, in lanes, after the row's others are written).
   return pass(spans, &RenderStats::shadeSeconds, [&](int y, int x0, int x1, RenderStats& st, std::vector<std::uint32_t>& scratch) {
+    struct EdgePixel {
+      int x;
+      glm::dvec3 c, samples[2];
+    };
+    thread_local std::vector<EdgePixel> edges;
+    thread_local ShadeBatch batch;
+    thread_local std::array<int, ShadeBatch::kCapacity> slots;  // 2 e + k: edge e's sample k
+    const auto flush = [&] {
+      finish(batch, st, scratch, [](int, const glm::dvec3&) {}, [&](int j, const glm::dvec3& c) {
+        const int slot = slots[static_cast<size_t>(j)];
+        edges[static_cast<size_t>(slot / 2)].samples[slot % 2] = c;
+      });
+    };
+    edges.clear();
+    batch.n = 0;
     for (int x = x0; x < x1; ++x) {
       const size_t i = at(x, y);
       const bool hit = hits[i] != 0;
-      bool edge = false;
-      if (!antialias) {
-        // (one ray a pixel: no neighbour read)
-      } else if (x > ring.x && y > ring.y && x + 1 < ring.x + ring.w && y + 1 < ring.y + ring.h) {
-        // All four neighbours in the ring (nearly every pixel): the same test, unrolled.
-        const size_t l = i - 1, r = i + 1, u = i - static_cast<size_t>(ring.w), d = i + static_cast<size_t>(ring.w);
-        if (!hit) {
-          edge = (hits[l] | hits[r] | hits[u] | hits[d]) != 0;
-        } else if ((hits[l] & hits[r] & hits[u] & hits[d]) == 0) {
-          edge = true;
-        } else {
-          const glm::vec3 n = normal[i];
-          edge = glm::dot(n, normal[l]) < kCreaseCos || glm::dot(n, normal[r]) < kCreaseCos ||
-                 glm::dot(n, normal[u]) < kCreaseCos || glm::dot(n, normal[d]) < kCreaseCos;
-        }
-      } else {
-        for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx < ring.x || ny < ring.y || nx >= ring.x + ring.w || ny >= ring.y + ring.h) continue;
-          const size_t j = at(nx, ny);
-          if ((hits[j] != 0) != hit || (hit && glm::dot(normal[i], normal[j]) < kCreaseCos)) edge = true;
-        }
-      }
-      std::uint8_t* px = image.pixel(x, y);
+      const bool edge = edgeAt(x, y, i, hit);
       if (!edge && !hit) {
+        std::uint8_t* px = image.pixel(x, y);
         const std::uint8_t* bd = &backdrops_[0].bytes[(static_cast<size_t>(y) * w + x) * 3];
-        px[0] = bd[0], px[1] = bd[1], px[2] = bd[2];
-      } else {
-        glm::dvec3 c = hit ? glm::dvec3(centre[i]) : glm::dvec3(glm::vec3(backdrop(x, y, w, h)));
-        if (edge) {
-          for (const auto& o : kEdgeSamples) c += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, reach, st, scratch);
-          c /= 3.0;
-          ++st.edgePixels;
-        }
-        const auto rgb = toSrgb8Fast(c);
-        px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2];
+        px[0] = bd[0], px[1] = bd[1], px[2] = bd[2], px[3] = 255;
+        continue;
       }
-      px[3] = 255;
+      const glm::dvec3 c = hit ? glm::dvec3(centre[i]) : glm::dvec3(glm::vec3(backdrop(x, y, w, h)));
+      if (!edge) {
+        put(x, y, c);
+        continue;
+      }
+      ++st.edgePixels;
+      if (!lanes) {
+        glm::dvec3 sum = c;
+        for (const auto& o : kEdgeSamples) sum += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, reach, st, scratch);
+        put(x, y, sum / 3.0);
+        continue;
+      }
+      const int e = static_cast<int>(edges.size());
+      edges.push_back(EdgePixel{x, c, {}});
+      for (int k = 0; k < 2; ++k) {
+        const double sx = x + 0.5 + kEdgeSamples[k][0], sy = y + 0.5 + kEdgeSamples[k][1];
+        const std::optional<Hit> sh = findHit(sx, sy, field, reach, st, scratch, nullptr, false, !field);
+        if (!sh) {  // as sample() gives it
+          edges.back().samples[k] = backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), w, h);
+          continue;
+        }
+        slots[static_cast<size_t>(add(batch, *sh))] = 2 * e + k;
+        if (batch.full()) flush();
+      }
+    }
+    if (batch.n > 0) flush();
+    for (const EdgePixel& p : edges) {
+      glm::dvec3 sum = p.c;
+      sum += p.samples[0];
+      sum += p.samples[1];
+      put(p.x, y, sum / 3.0);
     }
   });
 }
