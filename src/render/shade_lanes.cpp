@@ -81,25 +81,23 @@ HWY_INLINE void Lookup(D d, const SphereTexels& map, V dx, V dy, V dz, V& outR, 
 // hammerGradient(x, y, slope) (shading.cpp): the dimples of the nine cells around, the cells'
 // centres hashed from their indices.
 template <class D, class V = hn::Vec<D>>
-HWY_INLINE void Hammer(D d, double slope, V x, V y, V& gx, V& gy) {
-  constexpr double kCell = 1.6, kRadius = 1.25;
-  constexpr double kInvR2 = 1.0 / (kRadius * kRadius), kJitter = 0.7 / 65535.0;
-  const double amp = slope * 3.0 * std::sqrt(3.0) * kRadius / 16.0;
-  const double k0 = 4.0 * amp * kInvR2;
+HWY_INLINE void Dimples(D d, double slope, V x, V y, V& gx, V& gy) {
+  using H = emboss::Hammer;
+  const double k0 = H::k0(slope);
   const hn::Rebind<int32_t, D> di;
   const hn::Rebind<uint32_t, D> du;
-  const V cell = hn::Set(d, kCell);
+  const V cell = hn::Set(d, H::kCell);
   const auto cx = hn::DemoteTo(di, hn::Floor(hn::Div(x, cell)));
   const auto cy = hn::DemoteTo(di, hn::Floor(hn::Div(y, cell)));
-  const V k0v = hn::Set(d, k0), invR2 = hn::Set(d, kInvR2), one = hn::Set(d, 1.0), zero = hn::Zero(d);
-  const V jitter = hn::Set(d, kJitter), offset = hn::Set(d, 0.15);
+  const V k0v = hn::Set(d, k0), invR2 = hn::Set(d, H::kInvR2), one = hn::Set(d, 1.0), zero = hn::Zero(d);
+  const V jitter = hn::Set(d, H::kJitter), offset = hn::Set(d, H::kOffset);
   const auto low16 = hn::Set(du, 0xFFFFu);
   gx = zero, gy = zero;
   for (int n = 0; n < 9; ++n) {
     const auto i = hn::Add(cx, hn::Set(di, n % 3 - 1)), j = hn::Add(cy, hn::Set(di, n / 3 - 1));
-    auto h = hn::Xor(hn::Mul(hn::BitCast(du, i), hn::Set(du, 0x9E3779B1u)), hn::Mul(hn::BitCast(du, j), hn::Set(du, 0x85EBCA77u)));
-    h = hn::Xor(h, hn::ShiftRight<15>(h)), h = hn::Mul(h, hn::Set(du, 0x2C1B3C6Du));
-    h = hn::Xor(h, hn::ShiftRight<12>(h)), h = hn::Mul(h, hn::Set(du, 0x297A2D39u));
+    auto h = hn::Xor(hn::Mul(hn::BitCast(du, i), hn::Set(du, H::kHash[0])), hn::Mul(hn::BitCast(du, j), hn::Set(du, H::kHash[1])));
+    h = hn::Xor(h, hn::ShiftRight<15>(h)), h = hn::Mul(h, hn::Set(du, H::kHash[2]));
+    h = hn::Xor(h, hn::ShiftRight<12>(h)), h = hn::Mul(h, hn::Set(du, H::kHash[3]));
     h = hn::Xor(h, hn::ShiftRight<15>(h));
     // (Both halves are below 2^16: as int32 they convert to the same doubles.)
     const V hx = hn::PromoteTo(d, hn::BitCast(di, hn::And(h, low16)));
@@ -135,7 +133,7 @@ void ShadeLanes(const MetalLaneParams& s, ShadeBatch& b) {
     nz = hn::IfThenElse(behind, hn::Neg(nz), nz);
     if (s.hammer > 0) {
       V gx, gy;
-      Hammer(d, s.hammer, px, py, gx, gy);
+      Dimples(d, s.hammer, px, py, gx, gy);
       const V mx = hn::Sub(nx, hn::Mul(gx, nz)), my = hn::Sub(ny, hn::Mul(gy, nz)), mz = hn::Sub(nz, hn::Mul(zero, nz));
       const V inv = hn::Div(one, hn::Sqrt(Dot(mx, my, mz, mx, my, mz)));
       nx = hn::Mul(mx, inv), ny = hn::Mul(my, inv), nz = hn::Mul(mz, inv);

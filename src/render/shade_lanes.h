@@ -3,7 +3,26 @@
 // arithmetic in the same order, so the same bits as one call a hit (tests/render/shade_lanes_test.cpp).
 #pragma once
 
+#include <cmath>
+#include <cstdint>
+
 namespace emboss {
+
+// The planishing hammer's dimples, as shading.cpp's hammerGradient() and the lanes both work them
+// out: one shallow round dent a cell of a kCell lattice, of radius kRadius, its centre at
+// (i + kOffset + kJitter (h & 0xFFFF), j + kOffset + kJitter (h >> 16)) kCell for the cell's hash h
+// (kHash: the multipliers of the indices, then of the two mixing steps).
+struct Hammer {
+  static constexpr double kCell = 1.6, kRadius = 1.25, kOffset = 0.15;
+  static constexpr double kInvR2 = 1.0 / (kRadius * kRadius), kJitter = 0.7 / 65535.0;
+  static constexpr std::uint32_t kHash[4] = {0x9E3779B1u, 0x85EBCA77u, 0x2C1B3C6Du, 0x297A2D39u};
+  // The dimples' profile h(d) = -A (1 - d^2/R^2)^2 has its largest slope 16 A / (3 sqrt(3) R) at
+  // d = R / sqrt(3): for dimples of largest slope `slope`, their gradient is k0 (1 - d^2/R^2) d.
+  static double k0(double slope) {
+    const double amp = slope * 3.0 * std::sqrt(3.0) * kRadius / 16.0;
+    return 4.0 * amp * kInvR2;
+  }
+};
 
 // Hits to shade, as arrays of their coordinates (the renderer fills one a tile row at a time).
 // Every array holds kCapacity doubles, so that whole vectors of lanes can be read past n.

@@ -282,11 +282,9 @@ struct MetalResponse {
 // of a 1.6 mm lattice, in the sheet's plane. Returns the gradient of their depth at (x, y) for
 // dimples whose largest slope is `slope`.
 glm::dvec2 hammerGradient(double x, double y, double slope) {
-  constexpr double kCell = 1.6, kRadius = 1.25;
-  constexpr double kInvR2 = 1.0 / (kRadius * kRadius), kJitter = 0.7 / 65535.0;
-  // h(d) = -A (1 - d^2/R^2)^2 for d < R: largest slope 16 A / (3 sqrt(3) R) at d = R / sqrt(3).
-  const double amp = slope * 3.0 * std::sqrt(3.0) * kRadius / 16.0;
-  const double k0 = 4.0 * amp * kInvR2;
+  using H = Hammer;
+  constexpr double kCell = H::kCell, kInvR2 = H::kInvR2, kJitter = H::kJitter, kOffset = H::kOffset;
+  const double k0 = H::k0(slope);
   const int cx = floorToInt(x / kCell), cy = floorToInt(y / kCell);
   // The centres of the nine cells around, hashed from the cells' indices: the same for every hit in
   // the cell (about five pixels in a row of a frame), so each thread keeps the last cell's.
@@ -299,10 +297,10 @@ glm::dvec2 hammerGradient(double x, double y, double slope) {
     c.cx = cx, c.cy = cy;
     for (int n = 0; n < 9; ++n) {
       const int i = cx - 1 + n % 3, j = cy - 1 + n / 3;
-      std::uint32_t hsh = static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u;
-      hsh ^= hsh >> 15, hsh *= 0x2C1B3C6Du, hsh ^= hsh >> 12, hsh *= 0x297A2D39u, hsh ^= hsh >> 15;
-      c.fx[n] = (i + 0.15 + kJitter * (hsh & 0xFFFF)) * kCell;
-      c.fy[n] = (j + 0.15 + kJitter * (hsh >> 16)) * kCell;
+      std::uint32_t hsh = static_cast<std::uint32_t>(i) * H::kHash[0] ^ static_cast<std::uint32_t>(j) * H::kHash[1];
+      hsh ^= hsh >> 15, hsh *= H::kHash[2], hsh ^= hsh >> 12, hsh *= H::kHash[3], hsh ^= hsh >> 15;
+      c.fx[n] = (i + kOffset + kJitter * (hsh & 0xFFFF)) * kCell;
+      c.fy[n] = (j + kOffset + kJitter * (hsh >> 16)) * kCell;
     }
   }
   // No division and no branch per cell (a dimple out of reach weighs 0).
