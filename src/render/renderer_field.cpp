@@ -286,7 +286,8 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
     // above skips to where it goes under that face's highest point (the clip box also holds the
     // set operations' tools), or to the first window.
     if (frontThickness_ >= 0.0 && ray.dir.z < 0.0 && reachInDomain) {
-      auto under = [&](double hi) { return floorToLong((hi + frontThickness_ + 1e-6 - ray.origin.z) / ray.dir.z / h8) - 1; };
+      const double perQ = 1.0 / (ray.dir.z * h8);  // (a reciprocal: this is asked up to four times)
+      auto under = [&](double hi) { return floorToLong((hi + frontThickness_ + 1e-6 - ray.origin.z) * perQ) - 1; };
       long topQ = under(rb.hi);
       // The rest of the ray, from there, reaches less of the sheet: its highest point there may be
       // lower (a ray over flat metal beside a raised motif), a few times over.
@@ -393,6 +394,10 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   double prevF = -1.0;
   int shortSteps = 0;
   long failedUntil[2] = {q0 - 1, q0 - 1};
+  // The walk's step length is a quotient by the grid's spacing and a slope bound: the two that
+  // are fixed for the ray as reciprocals (a division is slow, and a ray takes several steps).
+  constexpr double kStepRate = 0.9;  // (below)
+  const double invStepH8 = 1.0 / (kStepRate * h8), invRayH8 = 1.0 / (rc.lf * h8);
   while (q < q1) {
     ++st.steps;
     bool cellChecked = false;  // the interval test of [q, q + kCell] ran (and failed)
@@ -437,13 +442,12 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
         // The stretch the step can reach when the ray's slope bound is at least kStepRate; a step
         // is never longer than the stretch its bound holds on (lf can be below 1 on a shallow
         // ray), and the whole ray's bound holds everywhere.
-        constexpr double kStepRate = 0.9;
-        const long reachQ = std::min(q1, q + static_cast<long>(std::min(-fa.l / (kStepRate * h8), 1e15)) + 1);
+        const long reachQ = std::min(q1, q + static_cast<long>(std::min(-fa.l * invStepH8, 1e15)) + 1);
         const Box2 step = xyBox(pq, at(reachQ));
         const Box2 inDomain{std::max(step.x0, dom.x0), std::max(step.y0, dom.y0), std::min(step.x1, dom.x1), std::min(step.y1, dom.y1)};
         const double lf = lipschitzAlong(ray.dir, field_.bound(inDomain), workpieceKind_);
         n = std::min(static_cast<long>(std::min((-fa.l - kPruneEps) / (lf * h8), 1e15)), reachQ - q - 1);
-        n = std::max(n, static_cast<long>(std::min((-fa.l - kPruneEps) / (rc.lf * h8), 1e15)));
+        n = std::max(n, static_cast<long>(std::min((-fa.l - kPruneEps) * invRayH8, 1e15)));
         n = std::max(0L, std::min(n, rc.nextWindow(q + 1, q1 + 1) - q - 1));
       }
       shortSteps = n < kSubdivisions / 8 ? shortSteps + 1 : 0;
