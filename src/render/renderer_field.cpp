@@ -396,9 +396,9 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   double prevF = -1.0;
   int shortSteps = 0;
   long failedUntil[2] = {q0 - 1, q0 - 1};
-  // The walk's step length is a quotient by the grid's spacing and a slope bound: the two that
-  // are fixed for the ray as reciprocals (a division is slow, and a ray takes several steps).
-  constexpr double kStepRate = 0.9;  // (below)
+  // Of a step's quotients (below), the two whose divisors are fixed for the ray are products with
+  // these reciprocals: a division is the slowest link of the step's chain, and a ray takes several.
+  constexpr double kStepRate = 0.9;  // the slope a step's stretch is found for (below)
   const double invStepH8 = 1.0 / (kStepRate * h8), invRayH8 = 1.0 / (rc.lf * h8);
   while (q < q1) {
     ++st.steps;
