@@ -17,14 +17,7 @@ namespace emboss {
 namespace fs = std::filesystem;
 
 Status writePngAtomically(const Image& image, const fs::path& path) {
-  const fs::path tmp = path.string() + ".part";
-  Status s = writePng(image, tmp);
-  if (!s) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    return s;
-  }
-  return commitFile(tmp, path);
+  return writePng(image, path);  // (atomically and durably: writeFileAtomically())
 }
 
 SessionStore::SessionStore(fs::path dir, KioskLog log) : dir_(std::move(dir)), log_(std::move(log)) {}

@@ -23,6 +23,16 @@ bool parseSize(const std::string& s, int& w, int& h) {
   return std::sscanf(s.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 16384 && h <= 16384;
 }
 
+// Where the command's own lines go: standard error when the output itself is the standard output
+// (-o -, /dev/stdout), so that the file in a pipe is only the file.
+FILE* infoStream(const std::string& out) {
+  const OutputPath o = resolveOutput(out);
+  if (!o.inPlace) return stdout;
+  std::error_code ec;
+  const std::string p = std::filesystem::absolute(o.path, ec).lexically_normal().string();
+  return p == "/dev/stdout" || p == "/dev/fd/1" || p == "/proc/self/fd/1" ? stderr : stdout;
+}
+
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -44,7 +54,7 @@ Commands::Commands(CLI::App& app) : app_(app) {
 
   renderCmd_ = app.add_subcommand("render", "Ray trace a scene to a PNG");
   renderCmd_->add_option("scene", scene_, "Scene file (JSON)")->required();
-  renderCmd_->add_option("-o,--output", out_, "Output PNG")->required();
+  renderCmd_->add_option("-o,--output", out_, "Output PNG (- for the standard output)")->required();
   renderCmd_->add_option("--size", size_, "Picture size WxH")->capture_default_str();
   renderCmd_->add_option("--threads", threads_, "Threads in the pool (0: one per core)")->check(CLI::Range(0, 256));
   renderCmd_->add_option("--repeat", repeat_, "Render the whole frame N times, no reuse; writes the last")->check(CLI::Range(1, 100000));
@@ -61,7 +71,7 @@ Commands::Commands(CLI::App& app) : app_(app) {
                          "the camera and the metal's optical constants in a .json beside it, for a path tracer)")
       ->check(CLI::IsMember({"pov", "stl", "3mf", "heightmap", "postcard", "studio"}))
       ->capture_default_str();
-  exportCmd_->add_option("-o,--output", out_, "Output file")->required();
+  exportCmd_->add_option("-o,--output", out_, "Output file (- for the standard output)")->required();
   exportCmd_->add_option("--size", size_, "Picture size WxH the POV camera is set up for")->capture_default_str();
   exportCmd_->add_option("--resolution", resolution_, "stl, 3mf: the mesh's grid step; heightmap: the pixel (mm; 0: automatic)")
       ->check(CLI::Range(0.0, 100.0));
@@ -137,6 +147,7 @@ int Commands::render() {
     std::fprintf(stderr, "emboss render: --size must be WxH, e.g. 1280x800\n");
     return 2;
   }
+  FILE* const info = infoStream(out_);
   auto scene = loadScene(scene_);
   if (!scene) {
     std::fprintf(stderr, "emboss render: %s\n", scene.error().c_str());
@@ -180,7 +191,7 @@ int Commands::render() {
       pixels += r.area();
     }
     const size_t n = model->activeCount();
-    std::printf("incremental: first frame %.1f ms; %zu updates, mean %.2f ms, worst %.2f ms, mean %.0f pixels per update\n",
+    std::fprintf(info, "incremental: first frame %.1f ms; %zu updates, mean %.2f ms, worst %.2f ms, mean %.0f pixels per update\n",
                 firstMs, n, n ? sum / n : 0.0, worst, n ? static_cast<double>(pixels) / n : 0.0);
   } else {
     renderer.sync(*model);
@@ -191,11 +202,11 @@ int Commands::render() {
       totalMs += msSince(t0);
       stats = st;
     }
-    std::printf("render: %dx%d, %zu operations, %d threads, %.1f ms per frame (mean of %d)\n", w, h, model->activeCount(),
+    std::fprintf(info, "render: %dx%d, %zu operations, %d threads, %.1f ms per frame (mean of %d)\n", w, h, model->activeCount(),
                 pool.size(), totalMs / repeat_, repeat_);
   }
   if (stats_) {
-    std::printf("stats: pixels traced %llu, hits %llu, mean steps per ray %.2f, mean operations per evaluation %.2f, "
+    std::fprintf(info, "stats: pixels traced %llu, hits %llu, mean steps per ray %.2f, mean operations per evaluation %.2f, "
                 "edge pixels %llu (anti-aliased)\n",
                 static_cast<unsigned long long>(stats.rays), static_cast<unsigned long long>(stats.hits), stats.meanStepsPerRay(),
                 stats.meanOpsPerEvaluation(), static_cast<unsigned long long>(stats.edgePixels));
@@ -205,7 +216,7 @@ int Commands::render() {
     std::fprintf(stderr, "emboss render: %s\n", s.error().c_str());
     return 1;
   }
-  std::printf("wrote %s\n", out_.c_str());
+  std::fprintf(info, "wrote %s\n", out_.c_str());
   return 0;
 }
 
@@ -215,6 +226,7 @@ int Commands::exportScene() {
     std::fprintf(stderr, "emboss export: --size must be WxH, e.g. 1280x800\n");
     return 2;
   }
+  FILE* const info = infoStream(out_);
   auto scene = loadScene(scene_);
   if (!scene) {
     std::fprintf(stderr, "emboss export: %s\n", scene.error().c_str());
@@ -226,6 +238,10 @@ int Commands::exportScene() {
     return 1;
   }
   if (format_ == "studio") {
+    if (resolveOutput(out_).inPlace) {
+      std::fprintf(stderr, "emboss export: studio writes two files (the .hdr and a .json beside it): give a file name\n");
+      return 2;
+    }
     std::filesystem::path json = out_;
     json.replace_extension(".json");
     if (json == std::filesystem::path(out_)) json += ".json";
@@ -233,7 +249,7 @@ int Commands::exportScene() {
       std::fprintf(stderr, "emboss export: %s\n", s.error().c_str());
       return 1;
     }
-    std::printf("wrote %s\nwrote %s\n", out_.c_str(), json.string().c_str());
+    std::fprintf(info, "wrote %s\nwrote %s\n", out_.c_str(), json.string().c_str());
     return 0;
   }
   if (format_ != "pov") {
@@ -250,7 +266,7 @@ int Commands::exportScene() {
       std::fprintf(stderr, "emboss export: %s\n", s.error().c_str());
       return 1;
     }
-    std::printf("%s\nwrote %s\n", summary.c_str(), out_.c_str());
+    std::fprintf(info, "%s\nwrote %s\n", summary.c_str(), out_.c_str());
     return 0;
   }
   PovExportOptions options;
@@ -266,7 +282,7 @@ int Commands::exportScene() {
     std::fprintf(stderr, "emboss export: %s\n", s.error().c_str());
     return 1;
   }
-  std::printf("wrote %s\n", out_.c_str());
+  std::fprintf(info, "wrote %s\n", out_.c_str());
   return 0;
 }
 

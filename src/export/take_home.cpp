@@ -5,6 +5,8 @@
 
 #include <cstdio>
 #include <ctime>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <filesystem>
 
@@ -58,7 +60,6 @@ std::string description(const Scene& scene) {
 
 Status writeTakeHome(const Scene& scene, const Model& model, const TakeHomeOptions& options, const std::string& out,
                      std::string* summary) {
-  const std::string tmp = out + ".tmp";
   char line[512];
   if (options.format == "heightmap") {
     ProgressBar bar("height map");
@@ -104,13 +105,27 @@ Status writeTakeHome(const Scene& scene, const Model& model, const TakeHomeOptio
     const std::string title = scene.title.empty() ? "emboss piece" : scene.title;
     if (Status s = writeFileAtomically(out, stlBytes(*mesh, title + " (mm)")); !s) return s;
   } else {
+    // lib3mf writes a file by name: beside the output and renamed over it, or, for an output
+    // written in place (a pipe, a device: resolveOutput()), in the temporary folder and copied.
+    const OutputPath target = resolveOutput(out);
     std::error_code ec;
+    const std::filesystem::path tmp =
+        target.inPlace ? std::filesystem::temp_directory_path(ec) / ("emboss-" + std::to_string(::getpid()) + ".3mf")
+                       : std::filesystem::path(target.path.string() + ".tmp");
     std::filesystem::remove(tmp, ec);
-    if (Status s = write3mf(*mesh, {scene.title, description(scene)}, tmp); !s) {
+    Status s = write3mf(*mesh, {scene.title, description(scene)}, tmp.string());
+    if (s && target.inPlace) {
+      std::ifstream in(tmp, std::ios::binary);
+      const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      s = in.bad() ? fail("cannot read back '" + tmp.string() + "'") : writeInPlace(target.path, bytes, out);
+      std::filesystem::remove(tmp, ec);
+    } else if (s) {
+      s = commitFile(tmp, target.path);
+    }
+    if (!s) {
       std::filesystem::remove(tmp, ec);
       return s;
     }
-    if (Status s = commitFile(tmp, out); !s) return s;
   }
   std::snprintf(line, sizeof line,
                 "mesh: %zu triangles (%zu before decimation), %zu vertices, cell %.4g mm, volume %.1f mm^3, area %.1f mm^2, "

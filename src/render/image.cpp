@@ -4,7 +4,9 @@
 #include <png.h>
 
 #include <cstring>
-#include <fstream>
+#include <string>
+
+#include "util/durable_file.h"
 
 namespace emboss {
 
@@ -15,17 +17,16 @@ Status writePng(const Image& image, const std::filesystem::path& path) {
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGBA;
-  // Write to a temporary file first so that a full disk never leaves a truncated picture behind.
-  const std::filesystem::path tmp = path.string() + ".part";
-  if (!png_image_write_to_file(&png, tmp.c_str(), 0, image.rgba.data(), 0, nullptr)) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
+  // Encoded in memory (its size asked first), then written as any file is (writeFileAtomically():
+  // a full disk never leaves a truncated picture behind, and a device or a pipe is written in place).
+  png_alloc_size_t size = 0;
+  if (!png_image_write_to_memory(&png, nullptr, &size, 0, image.rgba.data(), 0, nullptr))
     return fail("cannot write PNG '" + path.string() + "': " + png.message);
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return fail("cannot write PNG '" + path.string() + "': " + ec.message());
-  return Ok{};
+  std::string bytes(size, '\0');
+  if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, image.rgba.data(), 0, nullptr))
+    return fail("cannot write PNG '" + path.string() + "': " + png.message);
+  bytes.resize(size);
+  return writeFileAtomically(path, bytes);
 }
 
 Result<Image> readPng(const std::filesystem::path& path) {

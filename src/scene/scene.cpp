@@ -475,22 +475,6 @@ Result<std::string> sceneWithOperations(const std::string& head, const std::vect
   return doc.dump(1) + "\n";
 }
 
-Status writeFileAtomically(const std::filesystem::path& path, const std::string& bytes) {
-  const std::filesystem::path tmp = path.string() + ".part";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return fail("cannot write '" + path.string() + "': " + std::strerror(errno));
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      return fail("cannot write '" + path.string() + "' (disk full?)");
-    }
-  }
-  return commitFile(tmp, path);
-}
-
 Status saveScene(const Scene& scene, const Model* model, const std::filesystem::path& path) {
   return writeFileAtomically(path, sceneToJson(scene, model));
 }

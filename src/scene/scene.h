@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frep/model.h"
+#include "util/durable_file.h"
 #include "util/result.h"
 
 namespace emboss {
@@ -54,8 +55,8 @@ std::string operationToJson(const Operation& op);
 Result<std::string> sceneWithOperations(const std::string& head, const std::vector<std::string>& operations);
 // Writes atomically (a temporary file, fsync, a rename, fsync of the folder): a full disk or a power
 // cut leaves the old file or the new one, never half of one.
+// (writeFileAtomically(), util/durable_file.h.)
 Status saveScene(const Scene& scene, const Model* model, const std::filesystem::path& path);
-Status writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
 
 const char* deformationName(Deformation d);
 

@@ -79,4 +79,42 @@ check "export stl too fine" 1 "$emboss" export "$tmp/s.json" --format stl -o "$t
 grep -q "too fine" "$tmp/err" || { echo "FAIL too fine: $(cat "$tmp/err")"; fail=1; }
 [ -e "$tmp/fine.stl" ] && { echo "FAIL a refused export left a file"; fail=1; }
 check "export stl unwritable" 1 "$emboss" export "$tmp/s.json" --format stl -o "$tmp/no/such/dir/x.stl"
+# Outputs that are not regular files are written in place, never renamed over: the standard output
+# (the command's own lines then on standard error), a named pipe, a device (a full one an error,
+# and still the device after), and through a symbolic link its target, the link kept.
+check "render to stdout" 0 "$emboss" render "$tmp/s.json" -o - --size 64x40
+file "$tmp/out" | grep -q "PNG image data, 64 x 40" && grep -q "^wrote -" "$tmp/err" ||
+  { echo "FAIL render -o -: $(file "$tmp/out"); $(cat "$tmp/err")"; fail=1; }
+check "export stl to stdout" 0 "$emboss" export "$tmp/s.json" --format stl -o - --resolution 0.5
+# (A binary STL: 84 bytes of header and count, then 50 a triangle.)
+triangles="$(od -An -tu4 -j80 -N4 "$tmp/out" | tr -d ' ')"
+[ "${triangles:-0}" -gt 0 ] && [ "$(stat -c %s "$tmp/out")" -eq $((84 + 50 * triangles)) ] && grep -q "^wrote -" "$tmp/err" ||
+  { echo "FAIL stl on stdout: $triangles triangles, $(stat -c %s "$tmp/out") bytes"; fail=1; }
+# (lib3mf writes a named file: the package is made in the temporary folder, then copied out, then removed.)
+mkdir "$tmp/t"
+check "export 3mf to stdout" 0 env TMPDIR="$tmp/t" "$emboss" export "$tmp/s.json" --format 3mf -o - --resolution 0.5
+[ "$(head -c 2 "$tmp/out")" = "PK" ] && grep -q "^wrote -" "$tmp/err" && [ -z "$(ls -A "$tmp/t")" ] ||
+  { echo "FAIL 3mf on stdout: $(head -c 2 "$tmp/out"); $(ls -A "$tmp/t")"; fail=1; }
+check "export studio to stdout" 2 "$emboss" export "$tmp/s.json" --format studio -o -
+mkfifo "$tmp/pipe"
+cat "$tmp/pipe" >"$tmp/from-pipe.png" & reader=$!
+check "render to a pipe" 0 "$emboss" render "$tmp/s.json" -o "$tmp/pipe" --size 64x40
+wait $reader
+[ -p "$tmp/pipe" ] && file "$tmp/from-pipe.png" | grep -q "PNG image data, 64 x 40" ||
+  { echo "FAIL pipe: $(ls -l "$tmp/pipe"); $(file "$tmp/from-pipe.png")"; fail=1; }
+if [ -c /dev/full ]; then
+  check "render to a full device" 1 "$emboss" render "$tmp/s.json" -o /dev/full --size 64x40
+  grep -q "cannot write '/dev/full': No space left on device" "$tmp/err" && [ -c /dev/full ] && [ ! -e /dev/full.part ] ||
+    { echo "FAIL /dev/full: $(cat "$tmp/err"); $(ls -l /dev/full)"; fail=1; }
+  check "export pov to a full device" 1 "$emboss" export "$tmp/s.json" --format pov -o /dev/full
+  [ -c /dev/full ] || { echo "FAIL /dev/full replaced"; fail=1; }
+fi
+check "render to /dev/null" 0 "$emboss" render "$tmp/s.json" -o /dev/null --size 32x20
+[ -c /dev/null ] || { echo "FAIL /dev/null replaced"; fail=1; }
+mkdir "$tmp/keep" && echo old >"$tmp/keep/real.png"
+ln -sf keep/real.png "$tmp/link.png"
+check "render through a link" 0 "$emboss" render "$tmp/s.json" -o "$tmp/link.png" --size 64x40
+[ -L "$tmp/link.png" ] && file "$tmp/keep/real.png" | grep -q "PNG image data, 64 x 40" &&
+  [ -z "$(ls "$tmp/keep" | grep -v '^real.png$')" ] ||
+  { echo "FAIL link: $(ls -l "$tmp/link.png" "$tmp/keep")"; fail=1; }
 exit $fail
