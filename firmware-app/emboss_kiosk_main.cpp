@@ -358,13 +358,13 @@ int main(int argc, char** argv) {
       Result<ButtonConfig> bc = config.buttons == "auto" ? Result<ButtonConfig>(defaultButtonConfig()) : loadButtonConfig(config.buttons);
       if (bc) gpioConfig = *bc;
       if (!bc) {
-        logLine("buttons: " + bc.error());
+        logLine("buttons: " + bc.error() + "; going on without GPIO buttons (the keyboard stands in)");
       } else if (auto g = openGpioButtons(*bc)) {
         gpio = std::move(*g);
         app.addButtons(gpio.get());
         logLine("buttons: " + gpio->name());
       } else {
-        logLine("buttons: " + g.error());
+        logLine("buttons: " + g.error() + "; the keyboard stands in, looking again every 3 s");
       }
     }
 
