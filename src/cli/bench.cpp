@@ -1,5 +1,6 @@
 // `emboss bench`: the renderer's benchmark on generated pieces, printed as a table.
 #include <algorithm>
+#include <iterator>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -313,6 +314,13 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
 int benchMain(const std::string& out, int threads, bool quick, const std::string& only, const std::string& kioskRecording,
               int kioskLoops) {
   auto wanted = [&](const std::string& name) { return only.empty() || name.find(only) != std::string::npos; };
+  // A filter that takes no piece (a typing slip) says so instead of printing an empty table.
+  const char* const pieces[] = {"A4 plate", "plate 200x150", "disc", "vm medallion"};
+  if (!only.empty() && only != "kiosk" && std::none_of(std::begin(pieces), std::end(pieces), wanted)) {
+    std::fprintf(stderr, "emboss bench: --only '%s' names no piece (A4 plate, plate 200x150, disc, vm medallion; kiosk: none)\n",
+                 only.c_str());
+    return 2;
+  }
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   ThreadPool pool(threads);
   const std::optional<HostCpuTimes> hostBefore = readHostCpuTimes();

@@ -24,6 +24,8 @@ grep -q '^Baseline (same run, same threads): a plain interval-pruning 2D rendere
   [ "$(grep -c ' | yes |$' "$tmp/out")" -eq "$(grep -c '^| [Adpv][^|]* | [0-9]* | ' "$tmp/out")" ] &&
   { [ ! -r /proc/stat ] || grep -Eq '^Host, while the baseline and the pieces ran: steal [0-9.]+ % of its CPU time' "$tmp/out"; } ||
   { echo "FAIL bench table: $(head -c 600 "$tmp/out")"; fail=1; }
+check "bench --only no piece" 2 "$emboss" bench --quick --only nonsense
+grep -q "names no piece" "$tmp/err" || { echo "FAIL bench --only message: $(cat "$tmp/err")"; fail=1; }
 check "unknown option" 2 "$emboss" render "$tmp/s.json" -o "$tmp/x.png" --bogus
 check "bad size" 2 "$emboss" render "$tmp/s.json" -o "$tmp/x.png" --size 12
 check "missing scene" 1 "$emboss" eval "$tmp/none.json" 0 0 0
