@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -117,6 +118,10 @@ int Commands::eval() {
     return 2;
   }
   if (!xyz_.empty()) {
+    if (!std::isfinite(xyz_[0]) || !std::isfinite(xyz_[1]) || !std::isfinite(xyz_[2])) {
+      std::fprintf(stderr, "emboss eval: X Y Z must be finite numbers (mm)\n");
+      return 2;
+    }
     std::printf("%.17g\n", model->evaluate(P3<double>{xyz_[0], xyz_[1], xyz_[2]}));
     return 0;
   }
@@ -132,8 +137,8 @@ int Commands::eval() {
     if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
     std::istringstream ls(line);
     double x, y, z;
-    if (!(ls >> x >> y >> z)) {
-      std::fprintf(stderr, "emboss eval: %s:%d: expected three numbers 'x y z'\n", pointsFile_.c_str(), lineNo);
+    if (!(ls >> x >> y >> z) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+      std::fprintf(stderr, "emboss eval: %s:%d: expected three finite numbers 'x y z'\n", pointsFile_.c_str(), lineNo);
       return 1;
     }
     std::printf("%.17g\n", model->evaluate(P3<double>{x, y, z}));

@@ -36,6 +36,11 @@ grep -q "bad.json:1:14: not valid JSON" "$tmp/err" || { echo "FAIL malformed mes
 # f at the punch's peak: the sheet rises by p a = 1 mm, so the front face is at z = 1.5.
 check "eval point" 0 "$emboss" eval "$tmp/s.json" 0 0 1.5
 [ "$(cat "$tmp/out")" = "0" ] || { echo "FAIL eval value $(cat "$tmp/out")"; fail=1; }
+check "eval not a number" 2 "$emboss" eval "$tmp/s.json" nan 0 0
+grep -q "must be finite" "$tmp/err" || { echo "FAIL eval nan message: $(cat "$tmp/err")"; fail=1; }
+printf '0 0 1.5\ninf 0 0\n' >"$tmp/pts"
+check "eval points not finite" 1 "$emboss" eval "$tmp/s.json" --points "$tmp/pts"
+grep -q "pts:2: expected three finite numbers" "$tmp/err" || { echo "FAIL eval points inf: $(cat "$tmp/err")"; fail=1; }
 printf '0 0 1.5\n# a comment\n0 0 1.0\n20 0 0\n' >"$tmp/pts"
 check "eval points" 0 "$emboss" eval "$tmp/s.json" --points "$tmp/pts"
 [ "$(wc -l <"$tmp/out")" -eq 3 ] || { echo "FAIL eval points count"; fail=1; }
