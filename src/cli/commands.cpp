@@ -26,13 +26,7 @@ bool parseSize(const std::string& s, int& w, int& h) {
 
 // Where the command's own lines go: standard error when the output itself is the standard output
 // (-o -, /dev/stdout), so that the file in a pipe is only the file.
-FILE* infoStream(const std::string& out) {
-  const OutputPath o = resolveOutput(out);
-  if (!o.inPlace) return stdout;
-  std::error_code ec;
-  const std::string p = std::filesystem::absolute(o.path, ec).lexically_normal().string();
-  return p == "/dev/stdout" || p == "/dev/fd/1" || p == "/proc/self/fd/1" ? stderr : stdout;
-}
+FILE* infoStream(const std::string& out) { return isStandardOutput(out) ? stderr : stdout; }
 
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

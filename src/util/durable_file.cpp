@@ -47,17 +47,26 @@ Status commitFile(const fs::path& tmp, const fs::path& path) {
   return syncDirectory(path.parent_path());
 }
 
+bool isStandardOutput(const fs::path& path) {
+  if (path == "-") return true;
+  std::error_code ec;
+  const fs::path p = fs::absolute(path, ec).lexically_normal();
+  return p == "/dev/stdout" || p == "/dev/fd/1" || p == "/proc/self/fd/1";
+}
+
 OutputPath resolveOutput(const fs::path& path) {
   if (path == "-") return {"/dev/stdout", true};
-  // /dev/stdout, /dev/fd/N, /proc/self/fd/N: an open file of this process's, whatever it is.
   std::error_code ec;
-  const std::string lexical = fs::absolute(path, ec).lexically_normal().string();
-  if (lexical.rfind("/dev/", 0) == 0 || lexical.rfind("/proc/", 0) == 0) return {path, true};
   const fs::file_status self = fs::symlink_status(path, ec);
-  if (ec || !fs::exists(self)) return {path, false};
+  if (ec || !fs::exists(self)) return {path, false};  // a new file
+  // A device, a pipe, a socket (through links too: /dev/stdout to a terminal or a pipe).
   const fs::file_status target = fs::status(path, ec);
   if (!ec && fs::exists(target) && !fs::is_regular_file(target)) return {path, true};
   if (fs::is_symlink(self)) {
+    // /dev/stdout, /dev/fd/N, /proc/self/fd/N: a file this process holds open, written through
+    // that (the standard output redirected to a file, say).
+    const std::string lexical = fs::absolute(path, ec).lexically_normal().string();
+    if (lexical.rfind("/dev/", 0) == 0 || lexical.rfind("/proc/", 0) == 0) return {path, true};
     if (fs::path real = fs::canonical(path, ec); !ec) return {real, false};
     // A link to nothing yet: the file it names is created (one link followed).
     const fs::path to = fs::read_symlink(path, ec);
@@ -67,7 +76,7 @@ OutputPath resolveOutput(const fs::path& path) {
 }
 
 Status writeInPlace(const fs::path& path, const std::string& bytes, const std::string& name) {
-  const bool stdOut = path == "/dev/stdout";
+  const bool stdOut = isStandardOutput(path);
   const int fd = stdOut ? STDOUT_FILENO : ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
   if (fd < 0) return fail("cannot write '" + name + "': " + std::strerror(errno));
   // A regular file (/dev/stdout redirected to one) loses what it held beyond the new bytes.

@@ -18,13 +18,16 @@ Status commitFile(const std::filesystem::path& tmp, const std::filesystem::path&
 // Where a file someone names is written. A regular file, or none yet, is written beside itself and
 // renamed over it (atomically: the old file or the new one, never half of one); through a symbolic
 // link, its target is, the link kept. Anything else that exists (a device such as /dev/null or
-// /dev/full, a named pipe), and whatever /dev/stdout or /proc/self/fd/N names, is written in place:
-// a rename would replace it. "-" is the standard output.
+// /dev/full, a named pipe), and whatever a link in /dev or /proc names (/dev/stdout, /dev/fd/N,
+// /proc/self/fd/N: a file this process holds open), is written in place: a rename would replace
+// it. "-" is the standard output.
 struct OutputPath {
   std::filesystem::path path;  // where the bytes go
   bool inPlace = false;        // written straight into it
 };
 OutputPath resolveOutput(const std::filesystem::path& path);
+// Whether `path` is this process's standard output ("-", /dev/stdout, /dev/fd/1, /proc/self/fd/1).
+bool isStandardOutput(const std::filesystem::path& path);
 // All of `bytes` into the file at `path` as it stands (resolveOutput()'s in-place outputs): every
 // error reported (a full disk or device, a closed pipe). `name` is what messages call it.
 Status writeInPlace(const std::filesystem::path& path, const std::string& bytes, const std::string& name);

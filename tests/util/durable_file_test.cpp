@@ -73,6 +73,23 @@ TEST_F(OutputFiles, WhereEachKindGoes) {
   EXPECT_EQ(resolveOutput(dir_ / "new.png").path, dir_ / "new.png");
   ASSERT_EQ(::mkfifo((dir_ / "pipe").c_str(), 0600), 0);
   EXPECT_TRUE(resolveOutput(dir_ / "pipe").inPlace);
+  EXPECT_TRUE(isStandardOutput("-"));
+  EXPECT_TRUE(isStandardOutput("/dev/stdout"));
+  EXPECT_TRUE(isStandardOutput("/dev/fd/1"));
+  EXPECT_FALSE(isStandardOutput("/dev/stderr"));
+  EXPECT_FALSE(isStandardOutput(dir_ / "stdout"));
+}
+
+TEST_F(OutputFiles, ARegularFileUnderDevIsAFileLikeAnyOther) {
+  // (/dev/shm: a memory file system people write pictures to.)
+  if (!fs::is_directory("/dev/shm") || ::access("/dev/shm", W_OK) != 0) GTEST_SKIP() << "no writable /dev/shm here";
+  const fs::path f = fs::path("/dev/shm") / ("emboss-output-" + std::to_string(::getpid()) + ".pov");
+  EXPECT_FALSE(resolveOutput(f).inPlace);
+  ASSERT_TRUE(writeFileAtomically(f, "first"));
+  ASSERT_TRUE(writeFileAtomically(f, "second"));
+  EXPECT_EQ(read(f), "second");
+  EXPECT_FALSE(fs::exists(f.string() + ".part"));
+  fs::remove(f);
 }
 
 TEST_F(OutputFiles, ARegularFileIsReplacedWithNothingLeftBeside) {
