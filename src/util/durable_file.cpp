@@ -79,7 +79,8 @@ Status writeInPlace(const fs::path& path, const std::string& bytes, const std::s
   const bool stdOut = isStandardOutput(path);
   const int fd = stdOut ? STDOUT_FILENO : ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
   if (fd < 0) return fail("cannot write '" + name + "': " + std::strerror(errno));
-  // A regular file (/dev/stdout redirected to one) loses what it held beyond the new bytes.
+  // A regular file opened by name here (/dev/fd/N or /proc/self/fd/N of one) is emptied first, as
+  // `>` empties it; the standard output is written from where the shell left it.
   struct stat st {};
   const bool regular = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
   if (regular && !stdOut && ::ftruncate(fd, 0) != 0) {
