@@ -407,7 +407,7 @@ Status KioskApp::writeSnapshot(const fs::path& path) {
   }
   std::error_code ec;
   if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
-  return writePngAtomically(shot, path);
+  return writePng(shot, path);
 }
 
 Status KioskApp::writeSession(const fs::path& path) {

@@ -16,10 +16,6 @@ namespace emboss {
 
 namespace fs = std::filesystem;
 
-Status writePngAtomically(const Image& image, const fs::path& path) {
-  return writePng(image, path);  // (atomically and durably: writeFileAtomically())
-}
-
 SessionStore::SessionStore(fs::path dir, KioskLog log) : dir_(std::move(dir)), log_(std::move(log)) {}
 
 std::string SessionStore::freeStem(const std::string& stamp) const {
@@ -39,7 +35,7 @@ Status SessionStore::write(const Pending& p) {
   if (ec && !fs::is_directory(dir_)) return fail("cannot create '" + dir_.string() + "': " + ec.message());
   // The picture first: a scene file present means the session is complete.
   if (p.picture) {
-    Status s = writePngAtomically(*p.picture, dir_ / (p.stem + ".png"));
+    Status s = writePng(*p.picture, dir_ / (p.stem + ".png"));
     if (!s) return s;
   }
   return writeFileAtomically(dir_ / (p.stem + ".json"), p.json);
@@ -171,7 +167,7 @@ Result<SessionStore::ExportSummary> SessionStore::exportAll(const fs::path& targ
   if (current) {
     const fs::path json = sum.folder / ("current-" + stamp + ".json"), png = sum.folder / ("current-" + stamp + ".png");
     Status s = writeFileAtomically(json, current->json);
-    if (s && current->picture) s = writePngAtomically(*current->picture, png);
+    if (s && current->picture) s = writePng(*current->picture, png);
     if (!s) return fail("export: " + s.error() + " (the " + std::to_string(sum.files) + " saved files were copied)");
     sum.files += current->picture ? 2 : 1;
     sum.bytes += current->json.size() + (current->picture ? fs::file_size(png, ec) : 0);

@@ -97,7 +97,4 @@ class SessionStore {
   std::string lastError_;
 };
 
-// PNG written through a temporary file and a rename (writePng(): writeFileAtomically()).
-Status writePngAtomically(const Image& image, const std::filesystem::path& path);
-
 }  // namespace emboss

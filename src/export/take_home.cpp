@@ -10,7 +10,7 @@
 #include <sstream>
 #include <filesystem>
 
-#include "app/session_store.h"
+#include "render/image.h"
 #include "export/heightmap.h"
 #include "export/mesh.h"
 #include "export/stl.h"
@@ -83,7 +83,7 @@ Status writeTakeHome(const Scene& scene, const Model& model, const TakeHomeOptio
     o.threads = options.threads;
     auto card = postcard(scene, model, o, options.text);
     if (!card) return fail(card.error());
-    if (Status s = writePngAtomically(*card, out); !s) return s;
+    if (Status s = writePng(*card, out); !s) return s;
     std::snprintf(line, sizeof line, "postcard %dx%d%s", card->width, card->height, options.text ? "" : " (no font: no caption)");
     if (summary) *summary = line;
     return Ok{};
