@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
   cli.add_option("--run-for", runFor, "Stop after SECONDS")->check(CLI::NonNegativeNumber);
   cli.add_option("--snapshot", snapshot, "Write the last frame (overlay included) to OUT.png at exit");
   cli.add_option("--session-out", sessionOut, "Write the visitor's session as a scene file at exit");
-  cli.add_flag("--fast", fast, "Feed the --tablet=evemu: recording as fast as possible, then exit 0");
+  cli.add_flag("--fast", fast, "Feed the --tablet=evemu: recording as fast as possible (the same operations on every run), then exit 0");
   cli.add_option("--config", configPath, "A key = value configuration file (installed as " + std::string(kDefaultConfig) + ")");
   std::string checkConfigPath;
   auto* checkConfig = cli.add_option("--check-config", checkConfigPath,
@@ -327,8 +327,12 @@ int main(int argc, char** argv) {
     };
     auto attachPen = [&] {
       if (attractOnly) return;
-      if (pen) app.setPen(pen.get(), PenMapping::Tablet, fast);
-      else if (mouse) app.setPen(mouse.get(), PenMapping::Screen);
+      if (pen) {
+        app.setPen(pen.get(), PenMapping::Tablet, fast);
+        // A recording fed as fast as possible makes the same operations on every run: its points
+        // are found on the model alone, not through a frame whose progress depends on the speed.
+        app.setPickThroughRenderer(!fast);
+      } else if (mouse) app.setPen(mouse.get(), PenMapping::Screen);
       else app.setPen(nullptr, PenMapping::Tablet);
     };
     if (replay) {
