@@ -48,11 +48,17 @@ void StrokeBuilder::begin(const ToolSpec& tool, const Metal& metal) {
   sinceLast_ = 0;
 }
 
-size_t StrokeBuilder::settled(size_t count) const {
+size_t StrokeBuilder::settled(const std::vector<Operation>& ops) const {
+  const size_t count = ops.size();
   switch (tool_.kind) {
     case ToolKind::RegionRaiser:
     case ToolKind::PatinaBrush: return 0;
     case ToolKind::OvalPunch: return count >= 2 ? count - 2 : 0;
+    case ToolKind::Tracer:
+      // A piece's end joint bisects the turn into the next piece's first segment, which is settled
+      // once that piece has a point after it (before, it may still end at the pen).
+      if (count >= 2 && ops.back().points.size() < 3) return count - 2;
+      return count >= 1 ? count - 1 : 0;
     default: return count >= 1 ? count - 1 : 0;
   }
 }
@@ -68,7 +74,7 @@ std::vector<Operation> StrokeBuilder::add(const StrokePoint& p) {
   if (points_.size() > 1 && sinceLast_ < 0.25) return out;
   sinceLast_ = 0;
   const auto ops = strokeToOperations(tool_, metal_, points_);
-  const size_t n = settled(ops.size());
+  const size_t n = settled(ops);
   for (size_t i = handed_.size(); i < n; ++i) {
     handed_.push_back(ops[i]);
     out.push_back(ops[i]);

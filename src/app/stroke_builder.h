@@ -33,7 +33,8 @@ class StrokeBuilder {
   size_t handedOut() const { return handed_.size(); }
 
  private:
-  size_t settled(size_t count) const;
+  // How many of the stroke's operations so far are final (the same whatever the pen does next).
+  size_t settled(const std::vector<Operation>& ops) const;
 
   bool active_ = false;
   ToolSpec tool_{};

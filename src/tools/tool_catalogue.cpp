@@ -82,23 +82,56 @@ std::vector<StrokePoint> resample(const std::vector<StrokePoint>& s, double spac
 
 }  // namespace
 
+namespace {
+
+// Joins a's end to b's start (at a's last point, which b starts from): false when a's last segment
+// has no direction. The joint's direction bisects the turn from a's last segment to b's first.
+bool joinPair(Operation& a, Operation& b) {
+  const Vec2 p = a.points[a.points.size() - 2], q = a.points.back();
+  const double dx = q.x - p.x, dy = q.y - p.y, seg = portableHypot(dx, dy);
+  if (seg <= 1e-9) return false;
+  double len = 0;
+  for (size_t k = 1; k < a.points.size(); ++k) len += portableHypot(a.points[k].x - a.points[k - 1].x, a.points[k].y - a.points[k - 1].y);
+  TraceJoin j;
+  j.dir = {dx / seg, dy / seg};
+  if (b.points.size() >= 2) {
+    const double ex = b.points[1].x - b.points[0].x, ey = b.points[1].y - b.points[0].y, next = portableHypot(ex, ey);
+    if (next > 1e-9) {
+      const double mx = dx / seg + ex / next, my = dy / seg + ey / next, m = portableHypot(mx, my);
+      // A turn back on itself has no bisector: its normal then (the two pieces lie on one line).
+      j.dir = m > 1e-6 ? Vec2{mx / m, my / m} : Vec2{-dy / seg, dx / seg};
+    }
+  }
+  j.r = std::min({1.5 * a.a, 0.4 * len, 1.6});
+  a.joinEnd = j;
+  b.joinStart = j;
+  return true;
+}
+
+bool isTracePiece(const Operation& o) { return o.kind == OpKind::Trace && o.points.size() >= 2; }
+
+}  // namespace
+
 void joinTracePieces(std::vector<Operation>& ops, size_t first) {
+  bool chained = ops.size() >= first + 2;  // every piece joined to the next
   for (size_t i = first; i + 1 < ops.size(); ++i) {
     Operation& a = ops[i];
     Operation& b = ops[i + 1];
-    if (a.kind != OpKind::Trace || b.kind != OpKind::Trace || a.points.size() < 2 || b.points.empty()) continue;
-    const Vec2 p = a.points[a.points.size() - 2], q = a.points.back();
-    if (q.x != b.points.front().x || q.y != b.points.front().y) continue;
-    const double dx = q.x - p.x, dy = q.y - p.y, seg = portableHypot(dx, dy);
-    if (seg <= 1e-9) continue;
-    double len = 0;
-    for (size_t k = 1; k < a.points.size(); ++k) len += portableHypot(a.points[k].x - a.points[k - 1].x, a.points[k].y - a.points[k - 1].y);
-    TraceJoin j;
-    j.dir = {dx / seg, dy / seg};
-    j.r = std::min({1.5 * a.a, 0.4 * len, 1.6});
-    a.joinEnd = j;
-    b.joinStart = j;
+    const bool joined = isTracePiece(a) && b.kind == OpKind::Trace && !b.points.empty() &&
+                        a.points.back().x == b.points.front().x && a.points.back().y == b.points.front().y && joinPair(a, b);
+    chained = chained && joined;
   }
+  // A closed line (its last piece ends where its first starts, to within kCloseTolerance): the
+  // closing joint too, at the first piece's start, so that the loop has no bead where it closes.
+  if (!chained) return;
+  Operation& last = ops.back();
+  Operation& head = ops[first];
+  if (!isTracePiece(last) || !isTracePiece(head)) return;
+  const Vec2 s = head.points.front(), e = last.points.back();
+  if (portableHypot(e.x - s.x, e.y - s.y) > kCloseTolerance) return;
+  const Vec2 before = last.points.back();
+  last.points.back() = s;  // the one joint point both pieces hold
+  if (!joinPair(last, head)) last.points.back() = before;
 }
 
 std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& metal, const std::vector<StrokePoint>& stroke) {

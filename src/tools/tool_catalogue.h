@@ -56,9 +56,16 @@ Operation punchOp(const ToolSpec& tool, const Metal& metal, const Vec3& at, doub
 inline constexpr double kTraceSegment = 4.0;  // mm
 
 // Joins the consecutive trace operations ops[first..] of one line where one ends at the point the
-// next starts from (TraceJoin: no bead at the joints). The joint's direction is the last segment's
-// of the piece before it and its half width min(1.5 a, 0.4 length, 1.6 mm) of that piece: a joint
-// depends only on what comes before it, so a piece handed out under the pen never changes later.
+// next starts from (TraceJoin: no bead at the joints). The joint's direction bisects the turn from
+// the piece before's last segment to the next piece's first, and its half width is
+// min(1.5 a, 0.4 length, 1.6 mm) of the piece before (docs/kernels.md, "Trace joints"). So a
+// piece is final once the next piece's first segment is (StrokeBuilder::settled()).
+// A closed line of two pieces or more (the last ends within kCloseTolerance of where the first
+// starts: a drawn circle, a captured contour) is joined where it closes as well: the last piece's
+// end is moved onto the first's start and the first piece gets that joint as its start. Only the
+// whole line can say that it closes: the first piece changes then (StrokeBuilder::end() hands it
+// out again); a pen's stroke ends that close to its start only when a program draws it.
+inline constexpr double kCloseTolerance = 1e-6;  // mm
 void joinTracePieces(std::vector<Operation>& ops, size_t first = 0);
 
 }  // namespace emboss
