@@ -101,6 +101,20 @@ float crossLength2(const float* a, const float* b, const float* c, float n[3]) {
   return n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
 }
 
+// |cross| / (longest edge)^2: about the smallest angle of a thin triangle, in radians.
+// cos^2 of 10 degrees.
+constexpr float kFlipCos2 = 0.9698463f;
+
+static float shape(const float* a, const float* b, const float* c) {
+  float n[3];
+  const float c2 = crossLength2(a, b, c, n);
+  auto d2 = [](const float* u, const float* v) {
+    return (v[0] - u[0]) * (v[0] - u[0]) + (v[1] - u[1]) * (v[1] - u[1]) + (v[2] - u[2]) * (v[2] - u[2]);
+  };
+  const float l2 = std::max({d2(a, b), d2(b, c), d2(c, a)});
+  return l2 > 0.0f ? std::sqrt(c2) / l2 : 0.0f;
+}
+
 bool sliver(const float* a, const float* b, const float* c, float k) {
   float n[3];
   const float c2 = crossLength2(a, b, c, n);
@@ -129,7 +143,7 @@ void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vecto
     };
     std::vector<Candidate> cands;
     for (size_t t = 0; t < n; t += 3) {
-      if (!sliver(p(ix[t]), p(ix[t + 1]), p(ix[t + 2]))) continue;
+      if (!sliver(p(ix[t]), p(ix[t + 1]), p(ix[t + 2]), kMendSliver)) continue;
       int best = 0;  // the longest edge (a, b); c lies (nearly) on it
       float bestLen = -1.0f;
       for (int e = 0; e < 3; ++e) {
@@ -175,9 +189,22 @@ void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vecto
       float nu[3], n1[3], n2[3];
       crossLength2(p(ix[u]), p(ix[u + 1]), p(ix[u + 2]), nu);
       if (sliver(p(a), p(d), p(cc)) || sliver(p(d), p(b), p(cc))) continue;
+      // Only a flip that makes the worse triangle better (a sliver of 1 degree is not traded for
+      // another).
+      if (std::min(shape(p(a), p(d), p(cc)), shape(p(d), p(b), p(cc))) <= std::min(shape(p(a), p(b), p(cc)), shape(p(ix[u]), p(ix[u + 1]), p(ix[u + 2]))))
+        continue;
       crossLength2(p(a), p(d), p(cc), n1);
       crossLength2(p(d), p(b), p(cc), n2);
       if (n1[0] * nu[0] + n1[1] * nu[1] + n1[2] * nu[2] <= 0.0f || n2[0] * nu[0] + n2[1] * nu[1] + n2[2] * nu[2] <= 0.0f) continue;
+      // A thin triangle that is not a sliver by kSliver: only within about 10 degrees of the
+      // neighbour's plane, a flip in a face, never one that cuts across an edge of the sheet (a
+      // thin triangle along the rim, its neighbour on the side wall). (A sliver by kSliver has no
+      // area worth keeping: any flip that faces the neighbour's way.)
+      auto cos2 = [](const float* p, const float* q) {
+        const float d = p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+        return d * d / ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) * (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]));
+      };
+      if (!sliver(p(a), p(b), p(cc)) && (cos2(n1, nu) < kFlipCos2 || cos2(n2, nu) < kFlipCos2)) continue;
       ix[t] = a, ix[t + 1] = d, ix[t + 2] = cc;
       ix[u] = d, ix[u + 1] = b, ix[u + 2] = cc;
       touched[t] = touched[u] = true;

@@ -16,6 +16,11 @@ namespace mesh_detail {
 // A sliver: |cross| <= kSliver * (longest edge)^2, i.e. its smallest angle under about 1e-4 rad.
 // Its normal is lost in float rounding (readers such as admesh then recompute it).
 inline constexpr float kSliver = 1e-4f;
+// What the mending after simplification tries to flip away: under about 1.7 degrees. Such a
+// triangle's normal is still defined, but it leans on float noise (0.004 mm across a 0.15 mm
+// edge), and a smooth-shading reader weights it by its near-straight angle: a dark blotch on a
+// flat face in a path tracer's picture of the mesh.
+inline constexpr float kMendSliver = 3e-2f;
 
 // Merges vertices whose float positions are equal and drops the triangles that degenerate.
 void weldFloats(TriangleMesh& mesh);
@@ -24,8 +29,9 @@ void compact(TriangleMesh& mesh);
 // |(b - a) x (c - a)|^2, the cross product itself in n.
 float crossLength2(const float* a, const float* b, const float* c, float n[3]);
 bool sliver(const float* a, const float* b, const float* c, float k = kSliver);
-// Flips the longest edge of each zero-area or sliver triangle among the first n indices (3 a
-// triangle) with its neighbour's, where that makes two proper triangles.
+// Flips the longest edge of each zero-area or sliver triangle (kMendSliver) among the first n
+// indices (3 a triangle) with its neighbour's, where that makes two proper triangles facing the
+// neighbour's way and the worse of the two is better than the worse before.
 void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos);
 // Decimates within maxError tile by tile (tile: the first tiles' side, mm) on the pool; returns
 // how many tiles failed their check in the last round (left fine).

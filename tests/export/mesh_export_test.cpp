@@ -2,7 +2,9 @@
 // sheet's volume; STL and 3MF carry it unchanged; the height map holds the front face.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 
@@ -53,6 +55,36 @@ TEST(MeshExport, SheetIsClosedManifoldOnTheSurfaceAndKeepsItsVolume) {
   for (const auto& v : mesh->vertices)
     if (std::abs(v[0]) < 0.5f && std::abs(v[1]) < 0.5f) top = std::max(top, v[2]);
   EXPECT_GT(top, 0.5f + 1.0f);
+}
+
+// Thin triangles left by the simplification: a triangle whose height is under 1/1000 of its longest
+// edge has a normal made of float noise, and a smooth-shading reader weights it by its near-straight
+// angle (a dark blotch on a flat face). They are flipped away where that makes better triangles in
+// the same face, and never across an edge of the sheet (the volume stays).
+TEST(MeshExport, DecimationLeavesFewThinTriangles) {
+  const Model model = modelOf(kPlate);
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.15;
+  MeshStats st;
+  auto mesh = meshModel(model, o, &st);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  EXPECT_EQ(checkClosedManifold(*mesh), "");
+  EXPECT_TRUE(st.decimated);
+  size_t thin = 0;
+  for (const auto& t : mesh->triangles) {
+    const auto &a = mesh->vertices[t[0]], &b = mesh->vertices[t[1]], &c = mesh->vertices[t[2]];
+    const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+    const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+    const double w[3] = {double(c[0]) - b[0], double(c[1]) - b[1], double(c[2]) - b[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    const double l2 = std::max({u[0] * u[0] + u[1] * u[1] + u[2] * u[2], v[0] * v[0] + v[1] * v[1] + v[2] * v[2],
+                                w[0] * w[0] + w[1] * w[1] + w[2] * w[2]});
+    thin += std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) < 1e-3 * l2;
+  }
+  std::printf("%zu triangles, %zu under 1/1000\n", mesh->triangles.size(), thin);
+  EXPECT_LT(thin, mesh->triangles.size() / 2000);
+  EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
 }
 
 TEST(MeshExport, AHoleThroughTheSheetStaysClosed) {
