@@ -101,27 +101,29 @@ float crossLength2(const float* a, const float* b, const float* c, float n[3]) {
   return n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
 }
 
-// |cross| / (longest edge)^2: about the smallest angle of a thin triangle, in radians.
 // cos^2 of 10 degrees.
 constexpr float kFlipCos2 = 0.9698463f;
 
-static float shape(const float* a, const float* b, const float* c) {
+// |cross|^2 and the longest edge's length^2: what sliver() and shape() compare.
+static void crossAndLongest2(const float* a, const float* b, const float* c, float& c2, float& l2) {
   float n[3];
-  const float c2 = crossLength2(a, b, c, n);
+  c2 = crossLength2(a, b, c, n);
   auto d2 = [](const float* u, const float* v) {
     return (v[0] - u[0]) * (v[0] - u[0]) + (v[1] - u[1]) * (v[1] - u[1]) + (v[2] - u[2]) * (v[2] - u[2]);
   };
-  const float l2 = std::max({d2(a, b), d2(b, c), d2(c, a)});
+  l2 = std::max({d2(a, b), d2(b, c), d2(c, a)});
+}
+
+// |cross| / (longest edge)^2: about the smallest angle of a thin triangle, in radians.
+static float shape(const float* a, const float* b, const float* c) {
+  float c2, l2;
+  crossAndLongest2(a, b, c, c2, l2);
   return l2 > 0.0f ? std::sqrt(c2) / l2 : 0.0f;
 }
 
 bool sliver(const float* a, const float* b, const float* c, float k) {
-  float n[3];
-  const float c2 = crossLength2(a, b, c, n);
-  auto d2 = [](const float* u, const float* v) {
-    return (v[0] - u[0]) * (v[0] - u[0]) + (v[1] - u[1]) * (v[1] - u[1]) + (v[2] - u[2]) * (v[2] - u[2]);
-  };
-  const float l2 = std::max({d2(a, b), d2(b, c), d2(c, a)});
+  float c2, l2;
+  crossAndLongest2(a, b, c, c2, l2);
   return c2 <= k * k * l2 * l2;
 }
 

@@ -133,9 +133,8 @@ void joinTracePieces(std::vector<Operation>& ops, size_t first) {
   if (!isTracePiece(last) || !isTracePiece(head)) return;
   const Vec2 s = head.points.front(), e = last.points.back();
   if (portableHypot(e.x - s.x, e.y - s.y) > kCloseTolerance) return;
-  const Vec2 before = last.points.back();
   last.points.back() = s;  // the one joint point both pieces hold
-  if (!joinPair(last, head)) last.points.back() = before;
+  if (!joinPair(last, head)) last.points.back() = e;
 }
 
 std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& metal, const std::vector<StrokePoint>& stroke) {

@@ -59,8 +59,8 @@ inline constexpr double kTraceSegment = 4.0;  // mm
 // next starts from (TraceJoin: no bead at the joints). The joint's direction bisects the turn from
 // the piece before's last segment to the next piece's first, and its half width is
 // min(1.5 a, 0.4 length, 1.6 mm) of the piece before times the cosine of half the turn (at least
-// a quarter; docs/kernels.md, "Trace joints"). So a
-// piece is final once the next piece's first segment is (StrokeBuilder::settled()).
+// a quarter; docs/kernels.md, "Trace joints"). So a piece is final once the next piece's first
+// segment is (StrokeBuilder::settled()).
 // A closed line of two pieces or more (the last ends within kCloseTolerance of where the first
 // starts: a drawn circle, a captured contour) is joined where it closes as well: the last piece's
 // end is moved onto the first's start and the first piece gets that joint as its start. Only the
