@@ -377,16 +377,26 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
       st.decimated = true;
     }
   }
-  // Slivers left anywhere (the fine mesh has a few too) are mended the same way, over the whole mesh.
+  // Slivers left anywhere (the fine mesh has a few too) are mended the same way, over the whole
+  // mesh; then the folds the simplifier left are taken out (the whole mesh at once: most of them
+  // lie on the tiles' rings, where no tile could reach them).
   {
     std::vector<unsigned int> ix(mesh.triangles.size() * 3);
     std::memcpy(ix.data(), mesh.triangles.data(), ix.size() * sizeof(unsigned int));
     std::vector<float> pos(mesh.vertices.size() * 3);
     std::memcpy(pos.data(), mesh.vertices.data(), pos.size() * sizeof(float));
     mendFlatTriangles(ix, ix.size(), pos);
-    TriangleMesh mended = mesh;
-    std::memcpy(mended.triangles.data(), ix.data(), ix.size() * sizeof(unsigned int));
-    if (checkClosedManifold(mended).empty()) mesh = std::move(mended);
+    size_t n = ix.size();
+    const size_t folds = st.decimated ? removeFolds(ix, n, pos, options.maxError) : 0;
+    TriangleMesh mended;
+    mended.vertices = mesh.vertices;
+    mended.triangles.resize(n / 3);
+    std::memcpy(mended.triangles.data(), ix.data(), n * sizeof(unsigned int));
+    if (checkClosedManifold(mended).empty()) {
+      mesh = std::move(mended);
+      st.foldVertices = folds;
+      if (folds > 0) compact(mesh);
+    }
   }
   report(0.9);
 

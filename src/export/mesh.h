@@ -45,6 +45,7 @@ struct MeshStats {
   std::size_t vertices = 0;
   bool decimated = false;
   std::size_t fineTiles = 0;  // decimation tiles kept fine (their simplified patch failed the check)
+  std::size_t foldVertices = 0;  // vertices removed to take out folds the decimation left
   double volume = 0.0;  // mm^3, from the final mesh
   double area = 0.0;    // mm^2
   // Distances to the model's surface (first order: |f| / |grad f|), in mm: of the vertices (max and

@@ -33,6 +33,12 @@ bool sliver(const float* a, const float* b, const float* c, float k = kSliver);
 // indices (3 a triangle) with its neighbour's, where that makes two proper triangles facing the
 // neighbour's way and the worse of the two is better than the worse before.
 void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos);
+// Removes the vertices of folds (two triangles across an edge more than 120 degrees apart: the
+// simplifier's collapses leave a few, the surface folded over itself) among the first n indices,
+// each by triangulating its fan's hole again where that makes good triangles, takes fewer folds
+// and moves the surface at the vertex by at most maxError; n becomes the new count. Returns how
+// many vertices went.
+size_t removeFolds(std::vector<unsigned int>& ix, size_t& n, const std::vector<float>& pos, double maxError);
 // Decimates within maxError tile by tile (tile: the first tiles' side, mm) on the pool; returns
 // how many tiles failed their check in the last round (left fine).
 size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& pool);

@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 
 #include "export/heightmap.h"
 #include "export/mesh.h"
+#include "export/mesh_internal.h"
 #include "export/stl.h"
 #include "export/threemf.h"
 #include "scene/scene.h"
@@ -85,6 +87,109 @@ TEST(MeshExport, DecimationLeavesFewThinTriangles) {
   std::printf("%zu triangles, %zu under 1/1000\n", mesh->triangles.size(), thin);
   EXPECT_LT(thin, mesh->triangles.size() / 2000);
   EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
+}
+
+// Edges whose two triangles face more than 120 degrees apart: the surface folded over itself.
+size_t foldEdges(const TriangleMesh& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, size_t> edge;
+  std::vector<std::array<double, 3>> normal;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const auto &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+    const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+    const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    normal.push_back({n[0] / l, n[1] / l, n[2] / l});
+    for (int k = 0; k < 3; ++k) edge[{tri[k], tri[(k + 1) % 3]}] = t;
+  }
+  size_t folds = 0;
+  for (const auto& [e, t] : edge) {
+    const auto it = edge.find({e.second, e.first});
+    if (it == edge.end() || it->second < t) continue;
+    const auto &m = normal[t], &n = normal[it->second];
+    folds += m[0] * n[0] + m[1] * n[1] + m[2] * n[2] < -0.5;
+  }
+  return folds;
+}
+
+// The simplifier's collapses fold the surface over itself here and there (a triangle turned
+// upside down among its neighbours); the mesher takes the folding vertex out and fills its hole
+// again. The test plate had 35 fold edges before (9 now), and keeps its volume.
+TEST(MeshExport, DecimationLeavesFewFolds) {
+  const Model model = modelOf(kPlate);
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.15;
+  MeshStats st;
+  auto mesh = meshModel(model, o, &st);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  EXPECT_EQ(checkClosedManifold(*mesh), "");
+  const size_t folds = foldEdges(*mesh);
+  std::printf("%zu triangles, %zu fold edges, %zu vertices taken out\n", mesh->triangles.size(), folds, st.foldVertices);
+  EXPECT_GT(st.foldVertices, 0u);
+  EXPECT_LE(folds, 12u);
+  EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
+  EXPECT_EQ(st.vertices, mesh->vertices.size()) << "the vertices taken out are dropped";
+}
+
+// A flat grid with one vertex pushed across the edge between two of its neighbours: a triangle of
+// its fan turns over. The vertex goes, its hole is filled with triangles facing up, and the mesh stays closed where it was
+// (the same border) with the same area.
+TEST(MeshExport, AFoldedVertexIsTakenOutAndItsHoleFilled) {
+  const int n = 6;
+  std::vector<float> pos;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) pos.insert(pos.end(), {float(i), float(j), 0.0f});
+  auto id = [&](int i, int j) { return static_cast<unsigned int>(j * (n + 1) + i); };
+  std::vector<unsigned int> ix;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) ix.insert(ix.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+  auto area = [&](const std::vector<unsigned int>& t, size_t count, bool upOnly) {
+    double sum = 0;
+    for (size_t k = 0; k < count; k += 3) {
+      const float *a = &pos[3 * t[k]], *b = &pos[3 * t[k + 1]], *c = &pos[3 * t[k + 2]];
+      const double z = (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(b[1]) - a[1]) * (double(c[0]) - a[0]);
+      sum += upOnly ? std::max(0.0, z) : z;
+    }
+    return 0.5 * sum;
+  };
+  // (3, 3) pushed across the edge from (4, 3) to (4, 4), over the triangle beyond it.
+  pos[3 * id(3, 3)] = 4.2f, pos[3 * id(3, 3) + 1] = 3.5f;
+  auto toMesh = [&](const std::vector<unsigned int>& t, size_t count) {
+    TriangleMesh m;
+    for (size_t v = 0; v < pos.size(); v += 3) m.vertices.push_back({pos[v], pos[v + 1], pos[v + 2]});
+    for (size_t k = 0; k < count; k += 3) m.triangles.push_back({t[k], t[k + 1], t[k + 2]});
+    return m;
+  };
+  // And 0.01 above the plane: the surface after is that far from it.
+  pos[3 * id(3, 3) + 2] = 0.01f;
+  const size_t foldsBefore = foldEdges(toMesh(ix, ix.size()));
+  ASSERT_GT(foldsBefore, 0u);
+  size_t count = ix.size();
+  EXPECT_EQ(mesh_detail::removeFolds(ix, count, pos, 0.05), 1u);
+  EXPECT_EQ(count, ix.size() - 6) << "a vertex of six triangles gone: two triangles fewer";
+  const TriangleMesh after = toMesh(ix, count);
+  EXPECT_EQ(foldEdges(after), 0u);
+  for (const auto& t : after.triangles) EXPECT_TRUE(t[0] != id(3, 3) && t[1] != id(3, 3) && t[2] != id(3, 3));
+  EXPECT_NEAR(area(ix, count, true), double(n * n), 1e-9) << "every triangle faces up and the grid is covered once";
+  // The same border: the grid's outer edges, each once.
+  size_t borderEdges = 0;
+  std::map<std::pair<unsigned int, unsigned int>, int> uses;
+  for (size_t k = 0; k < count; k += 3)
+    for (int e = 0; e < 3; ++e) ++uses[{ix[k + e], ix[k + (e + 1) % 3]}];
+  for (const auto& [e, c] : uses) {
+    EXPECT_EQ(c, 1);
+    if (!uses.count({e.second, e.first})) ++borderEdges;
+  }
+  EXPECT_EQ(borderEdges, size_t(4 * n));
+  // Further from the surface after than maxError (below the lift): left as it is.
+  std::vector<unsigned int> again;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) again.insert(again.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+  size_t kept = again.size();
+  EXPECT_EQ(mesh_detail::removeFolds(again, kept, pos, 0.001), 0u);
+  EXPECT_EQ(kept, again.size());
 }
 
 TEST(MeshExport, AHoleThroughTheSheetStaysClosed) {

@@ -1,0 +1,324 @@
+// Folds left by simplification, taken out by removing a vertex and triangulating the hole again
+// (mesh_internal.h, docs/exports.md "Folds").
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <unordered_map>
+
+#include "export/mesh_internal.h"
+
+namespace emboss::mesh_detail {
+
+namespace {
+
+struct D3 {
+  double x, y, z;
+};
+D3 operator-(const D3& a, const D3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+D3 cross(const D3& a, const D3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double dot(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+double norm(const D3& a) { return std::sqrt(dot(a, a)); }
+D3 scaled(const D3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+
+// The point of triangle abc closest to p (Ericson, "Real-Time Collision Detection", 5.1.5).
+D3 closestOnTriangle(const D3& p, const D3& a, const D3& b, const D3& c) {
+  const D3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const D3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return {a.x + v * ab.x, a.y + v * ab.y, a.z + v * ab.z};
+  }
+  const D3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return {a.x + w * ac.x, a.y + w * ac.y, a.z + w * ac.z};
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {b.x + w * (c.x - b.x), b.y + w * (c.y - b.y), b.z + w * (c.z - b.z)};
+  }
+  const double s = 1.0 / (va + vb + vc), v = vb * s, w = vc * s;
+  return {a.x + ab.x * v + ac.x * w, a.y + ab.y * v + ac.y * w, a.z + ab.z * v + ac.z * w};
+}
+
+// |cross| / (longest edge)^2, as shape() in mesh_decimate.cpp but in doubles.
+double shapeOf(const D3& a, const D3& b, const D3& c) {
+  const double l = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+  return l > 0.0 ? norm(cross(b - a, c - a)) / l : 0.0;
+}
+
+constexpr unsigned int kDead = 0xffffffffu;
+// A fold: two triangles across an edge whose normals are more than 120 degrees apart.
+constexpr double kFoldCos = -0.5;
+// A vertex is removed only where each new triangle lies within 60 degrees of the hole's plane and
+// is not thin (under about 0.6 degrees).
+constexpr double kPlaneCos = 0.5;
+constexpr double kWorstShape = 0.01;
+// Holes of more triangles than this are not triangulated again (none seen near a fold has half).
+constexpr size_t kMaxFan = 24;
+
+class Unfolder {
+ public:
+  Unfolder(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos, double maxError)
+      : ix_(ix), n_(n), pos_(pos), maxError_(maxError), first_(pos.size() / 3 + 1, 0) {
+    // Each vertex's triangles, packed (a vector per vertex would cost tens of megabytes on a big
+    // mesh); the few stars a removal changes are kept apart (edited_).
+    for (size_t i = 0; i < n_; ++i) ++first_[ix_[i] + 1];
+    for (size_t v = 1; v < first_.size(); ++v) first_[v] += first_[v - 1];
+    tris_.resize(n_);
+    std::vector<std::uint32_t> fill(first_.begin(), first_.end() - 1);
+    for (size_t i = 0; i < n_; ++i) tris_[fill[ix_[i]]++] = static_cast<std::uint32_t>(i / 3);
+  }
+
+  size_t run() {
+    size_t removed = 0;
+    for (int pass = 0; pass < 3; ++pass) {
+      std::vector<unsigned int> cand;
+      for (std::uint32_t t = 0; t < n_ / 3; ++t) {
+        if (dead(t)) continue;
+        for (int k = 0; k < 3; ++k)
+          if (foldAt(t, k)) {
+            cand.insert(cand.end(), {ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
+            break;
+          }
+      }
+      std::sort(cand.begin(), cand.end());
+      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      size_t now = 0;
+      for (unsigned int v : cand) now += removeVertex(v);
+      removed += now;
+      if (now == 0) break;
+    }
+    return removed;
+  }
+
+  // Drops the dead triangles; the new count of indices.
+  size_t compacted() {
+    size_t m = 0;
+    for (size_t t = 0; t < n_ / 3; ++t)
+      if (!dead(static_cast<std::uint32_t>(t))) {
+        for (int k = 0; k < 3; ++k) ix_[3 * m + k] = ix_[3 * t + k];
+        ++m;
+      }
+    return 3 * m;
+  }
+
+ private:
+  D3 p(unsigned int v) const { return {pos_[3 * v], pos_[3 * v + 1], pos_[3 * v + 2]}; }
+  // The triangles using v (dead ones among them too).
+  std::span<const std::uint32_t> star(unsigned int v) const {
+    if (const auto it = edited_.find(v); it != edited_.end()) return it->second;
+    return {tris_.data() + first_[v], tris_.data() + first_[v + 1]};
+  }
+  std::vector<std::uint32_t>& editable(unsigned int v) {
+    auto [it, fresh] = edited_.try_emplace(v);
+    if (fresh) it->second.assign(tris_.begin() + first_[v], tris_.begin() + first_[v + 1]);
+    return it->second;
+  }
+  bool dead(std::uint32_t t) const { return ix_[3 * t] == kDead; }
+  D3 normal(std::uint32_t t) const {
+    const D3 a = p(ix_[3 * t]), m = cross(p(ix_[3 * t + 1]) - a, p(ix_[3 * t + 2]) - a);
+    const double l = norm(m);
+    return l > 0.0 ? scaled(m, 1.0 / l) : D3{0, 0, 0};
+  }
+  // The live triangle other than t with the directed edge (b, a), or -1.
+  long across(std::uint32_t t, unsigned int a, unsigned int b) const {
+    for (std::uint32_t u : star(a)) {
+      if (u == t || dead(u)) continue;
+      for (int k = 0; k < 3; ++k)
+        if (ix_[3 * u + k] == b && ix_[3 * u + (k + 1) % 3] == a) return u;
+    }
+    return -1;
+  }
+  bool foldAt(std::uint32_t t, int k) const {
+    const long u = across(t, ix_[3 * t + k], ix_[3 * t + (k + 1) % 3]);
+    return u >= 0 && dot(normal(t), normal(static_cast<std::uint32_t>(u))) < kFoldCos;
+  }
+  // Replaces the triangles `slots` (v's fan) by `tris` (fewer), keeping the stars right: the first
+  // slots take the new triangles, the rest die.
+  void put(unsigned int v, const std::vector<unsigned int>& link, const std::vector<std::uint32_t>& slots,
+           const std::vector<std::array<unsigned int, 3>>& tris) {
+    auto inSlots = [&](std::uint32_t u) { return std::find(slots.begin(), slots.end(), u) != slots.end(); };
+    for (unsigned int a : link) std::erase_if(editable(a), inSlots);
+    std::erase_if(editable(v), inSlots);
+    for (size_t i = 0; i < slots.size(); ++i) {
+      const std::uint32_t t = slots[i];
+      if (i < tris.size()) {
+        for (int k = 0; k < 3; ++k) {
+          ix_[3 * t + k] = tris[i][static_cast<size_t>(k)];
+          editable(tris[i][static_cast<size_t>(k)]).push_back(t);
+        }
+      } else {
+        ix_[3 * t] = ix_[3 * t + 1] = ix_[3 * t + 2] = kDead;
+      }
+    }
+  }
+
+  // Removes v when its fan is a closed disc whose rim, seen along the rim's own normal, is a
+  // simple polygon that ear clipping fills with good triangles facing that way, v lies within
+  // maxError of them, no new edge exists elsewhere, and the fan has fewer folds after.
+  bool removeVertex(unsigned int v) {
+    std::vector<std::uint32_t> fan;
+    for (std::uint32_t t : star(v))
+      if (!dead(t)) fan.push_back(t);
+    const size_t k = fan.size();
+    if (k < 3 || k > kMaxFan) return false;
+    // The rim: each fan triangle (v, a, b) gives the step a -> b; they must make one cycle.
+    std::vector<std::pair<unsigned int, unsigned int>> steps;
+    for (std::uint32_t t : fan) {
+      int r = 0;
+      while (ix_[3 * t + r] != v) ++r;
+      steps.push_back({ix_[3 * t + (r + 1) % 3], ix_[3 * t + (r + 2) % 3]});
+    }
+    std::vector<unsigned int> rim{steps[0].first};
+    for (size_t s = 0; s < k; ++s) {
+      unsigned int next = kDead;
+      int found = 0;
+      for (const auto& [a, b] : steps)
+        if (a == rim.back()) next = b, ++found;
+      if (found != 1) return false;
+      if (s + 1 == k) {
+        if (next != rim[0]) return false;
+      } else {
+        if (std::find(rim.begin(), rim.end(), next) != rim.end()) return false;
+        rim.push_back(next);
+      }
+    }
+    // The rim's plane: its normal by Newell's method (the fan's summed area vector, whichever way
+    // its triangles face), the rim in coordinates of that plane.
+    D3 c{0, 0, 0};
+    for (unsigned int a : rim) c = {c.x + p(a).x, c.y + p(a).y, c.z + p(a).z};
+    c = scaled(c, 1.0 / static_cast<double>(k));
+    D3 nn{0, 0, 0};
+    for (size_t i = 0; i < k; ++i) {
+      const D3 m = cross(p(rim[i]) - c, p(rim[(i + 1) % k]) - c);
+      nn = {nn.x + m.x, nn.y + m.y, nn.z + m.z};
+    }
+    const double nl = norm(nn);
+    if (!(nl > 0.0)) return false;
+    const D3 N = scaled(nn, 1.0 / nl);
+    const D3 axis = std::abs(N.x) < 0.6 ? D3{1, 0, 0} : D3{0, 1, 0};
+    const D3 e1 = scaled(cross(N, axis), 1.0 / norm(cross(N, axis))), e2 = cross(N, e1);
+    std::vector<double> qx(k), qy(k);
+    double extent = 0.0;
+    for (size_t i = 0; i < k; ++i) {
+      const D3 d = p(rim[i]) - c;
+      qx[i] = dot(d, e1), qy[i] = dot(d, e2);
+      extent = std::max(extent, std::abs(qx[i]) + std::abs(qy[i]));
+    }
+    auto orient = [&](size_t a, size_t b, size_t d) {
+      return (qx[b] - qx[a]) * (qy[d] - qy[a]) - (qy[b] - qy[a]) * (qx[d] - qx[a]);
+    };
+    const double eps = 1e-12 * extent * extent;
+    // A simple polygon: no two edges that are not neighbours meet or touch.
+    for (size_t i = 0; i < k; ++i)
+      for (size_t j = i + 2; j < k; ++j) {
+        if (i == 0 && j == k - 1) continue;
+        const size_t i1 = (i + 1) % k, j1 = (j + 1) % k;
+        const double o1 = orient(i, i1, j), o2 = orient(i, i1, j1), o3 = orient(j, j1, i), o4 = orient(j, j1, i1);
+        if (std::min({std::abs(o1), std::abs(o2), std::abs(o3), std::abs(o4)}) <= eps) return false;
+        if ((o1 > 0) != (o2 > 0) && (o3 > 0) != (o4 > 0)) return false;
+      }
+    // Ear clipping, the best-shaped ear first.
+    std::vector<size_t> poly(k);
+    for (size_t i = 0; i < k; ++i) poly[i] = i;
+    std::vector<std::array<unsigned int, 3>> tris;
+    while (poly.size() > 3) {
+      const size_t m = poly.size();
+      double best = -1.0;
+      size_t bi = m;
+      for (size_t i = 0; i < m; ++i) {
+        const size_t a = poly[(i + m - 1) % m], b = poly[i], d = poly[(i + 1) % m];
+        if (orient(a, b, d) <= eps) continue;
+        bool empty = true;
+        for (size_t j = 0; j < m && empty; ++j) {
+          const size_t q = poly[j];
+          if (q != a && q != b && q != d && orient(a, b, q) >= -eps && orient(b, d, q) >= -eps && orient(d, a, q) >= -eps)
+            empty = false;
+        }
+        if (!empty) continue;
+        const double s = shapeOf(p(rim[a]), p(rim[b]), p(rim[d]));
+        if (s > best) best = s, bi = i;
+      }
+      if (bi == m) return false;
+      tris.push_back({rim[poly[(bi + m - 1) % m]], rim[poly[bi]], rim[poly[(bi + 1) % m]]});
+      poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(bi));
+    }
+    if (orient(poly[0], poly[1], poly[2]) <= eps) return false;
+    tris.push_back({rim[poly[0]], rim[poly[1]], rim[poly[2]]});
+    for (const auto& t : tris) {
+      const D3 a = p(t[0]), b = p(t[1]), d = p(t[2]);
+      const D3 m = cross(b - a, d - a);
+      const double l = norm(m);
+      if (!(l > 0.0) || dot(m, N) < kPlaneCos * l || shapeOf(a, b, d) < kWorstShape) return false;
+    }
+    // A new edge inside the hole must not be an edge of a triangle outside the fan already.
+    auto rimIndex = [&](unsigned int a) { return static_cast<size_t>(std::find(rim.begin(), rim.end(), a) - rim.begin()); };
+    for (const auto& t : tris)
+      for (int e = 0; e < 3; ++e) {
+        const unsigned int a = t[static_cast<size_t>(e)], b = t[static_cast<size_t>((e + 1) % 3)];
+        const size_t ia = rimIndex(a), ib = rimIndex(b);
+        if ((ia + 1) % k == ib || (ib + 1) % k == ia) continue;  // the rim's own edge
+        for (std::uint32_t u : star(a))
+          if (!dead(u) && std::find(fan.begin(), fan.end(), u) == fan.end() &&
+              (ix_[3 * u] == b || ix_[3 * u + 1] == b || ix_[3 * u + 2] == b))
+            return false;
+      }
+    // v itself within maxError of the surface after: the new triangles or the ones around the hole
+    // (a folding vertex often lies beyond its own rim, over a neighbour).
+    double dmin = std::numeric_limits<double>::infinity();
+    auto nearer = [&](unsigned int a, unsigned int b, unsigned int c) {
+      dmin = std::min(dmin, norm(closestOnTriangle(p(v), p(a), p(b), p(c)) - p(v)));
+    };
+    for (const auto& t : tris) nearer(t[0], t[1], t[2]);
+    for (size_t i = 0; i < k; ++i)
+      if (const long u = across(fan[i], steps[i].first, steps[i].second); u >= 0)
+        nearer(ix_[3 * static_cast<size_t>(u)], ix_[3 * static_cast<size_t>(u) + 1], ix_[3 * static_cast<size_t>(u) + 2]);
+    if (dmin > maxError_) return false;
+    // Fewer folds along the hole's edges after than along the fan's before (each counted from
+    // both sides inside, once on the rim).
+    auto folds = [&](size_t count) {
+      long f = 0;
+      for (size_t i = 0; i < count; ++i)
+        for (int e = 0; e < 3; ++e) f += foldAt(fan[i], e);
+      return f;
+    };
+    const long before = folds(k);
+    std::vector<std::array<unsigned int, 3>> old;
+    for (std::uint32_t t : fan) old.push_back({ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
+    put(v, rim, fan, tris);
+    if (folds(tris.size()) < before) return true;
+    put(v, rim, fan, old);
+    return false;
+  }
+
+  std::vector<unsigned int>& ix_;
+  size_t n_;
+  const std::vector<float>& pos_;
+  double maxError_;
+  std::vector<std::uint32_t> first_, tris_;  // vertex v's triangles: tris_[first_[v] .. first_[v + 1])
+  std::unordered_map<unsigned int, std::vector<std::uint32_t>> edited_;  // stars changed since
+};
+
+}  // namespace
+
+size_t removeFolds(std::vector<unsigned int>& ix, size_t& n, const std::vector<float>& pos, double maxError) {
+  Unfolder u(ix, n, pos, maxError);
+  const size_t removed = u.run();
+  if (removed > 0) n = u.compacted();
+  return removed;
+}
+
+}  // namespace emboss::mesh_detail
