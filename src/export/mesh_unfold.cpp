@@ -85,19 +85,20 @@ class Unfolder {
   size_t run() {
     size_t removed = 0;
     for (int pass = 0; pass < 3; ++pass) {
+      std::vector<std::uint32_t> folded;
+      for (std::uint32_t t = 0; t < n_ / 3; ++t)
+        if (!dead(t) && (foldAt(t, 0) || foldAt(t, 1) || foldAt(t, 2))) folded.push_back(t);
       std::vector<unsigned int> cand;
-      for (std::uint32_t t = 0; t < n_ / 3; ++t) {
-        if (dead(t)) continue;
-        for (int k = 0; k < 3; ++k)
-          if (foldAt(t, k)) {
-            cand.insert(cand.end(), {ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
-            break;
-          }
-      }
+      for (std::uint32_t t : folded) cand.insert(cand.end(), {ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
       std::sort(cand.begin(), cand.end());
       cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
       size_t now = 0;
-      for (unsigned int v : cand) now += removeVertex(v);
+      for (unsigned int v : cand) now += removeVertices({v});
+      // Where no one vertex would do: the two ends of an edge of a triangle still folded.
+      for (std::uint32_t t : folded)
+        for (int e = 0; e < 3 && !dead(t); ++e)
+          if (foldAt(t, 0) || foldAt(t, 1) || foldAt(t, 2))
+            now += 2 * removeVertices({ix_[3 * t + e], ix_[3 * t + (e + 1) % 3]});
       removed += now;
       if (now == 0) break;
     }
@@ -146,13 +147,13 @@ class Unfolder {
     const long u = across(t, ix_[3 * t + k], ix_[3 * t + (k + 1) % 3]);
     return u >= 0 && dot(normal(t), normal(static_cast<std::uint32_t>(u))) < kFoldCos;
   }
-  // Replaces the triangles `slots` (v's fan) by `tris` (fewer), keeping the stars right: the first
-  // slots take the new triangles, the rest die.
-  void put(unsigned int v, const std::vector<unsigned int>& link, const std::vector<std::uint32_t>& slots,
-           const std::vector<std::array<unsigned int, 3>>& tris) {
+  // Replaces the triangles `slots` (the region around the removed vertices `gone`, its rim `rim`)
+  // by `tris` (fewer), keeping the stars right: the first slots take the new triangles, the rest die.
+  void put(const std::vector<unsigned int>& gone, const std::vector<unsigned int>& rim,
+           const std::vector<std::uint32_t>& slots, const std::vector<std::array<unsigned int, 3>>& tris) {
     auto inSlots = [&](std::uint32_t u) { return std::find(slots.begin(), slots.end(), u) != slots.end(); };
-    for (unsigned int a : link) std::erase_if(editable(a), inSlots);
-    std::erase_if(editable(v), inSlots);
+    for (unsigned int a : rim) std::erase_if(editable(a), inSlots);
+    for (unsigned int v : gone) std::erase_if(editable(v), inSlots);
     for (size_t i = 0; i < slots.size(); ++i) {
       const std::uint32_t t = slots[i];
       if (i < tris.size()) {
@@ -166,34 +167,56 @@ class Unfolder {
     }
   }
 
-  // Removes v when its fan is a closed disc whose rim, seen along the rim's own normal, is a
-  // simple polygon that ear clipping fills with good triangles facing that way, v lies within
-  // maxError of them, no new edge exists elsewhere, and the fan has fewer folds after.
-  bool removeVertex(unsigned int v) {
-    std::vector<std::uint32_t> fan;
-    for (std::uint32_t t : star(v))
-      if (!dead(t)) fan.push_back(t);
-    const size_t k = fan.size();
-    if (k < 3 || k > kMaxFan) return false;
-    // The rim: each fan triangle (v, a, b) gives the step a -> b; they must make one cycle.
-    std::vector<std::pair<unsigned int, unsigned int>> steps;
-    for (std::uint32_t t : fan) {
-      int r = 0;
-      while (ix_[3 * t + r] != v) ++r;
-      steps.push_back({ix_[3 * t + (r + 1) % 3], ix_[3 * t + (r + 2) % 3]});
-    }
-    std::vector<unsigned int> rim{steps[0].first};
+  // Removes the vertices `gone` (one, or the two ends of an edge) when the triangles around them
+  // make a disc whose rim, seen along the rim's own normal, is a simple polygon that ear clipping
+  // fills with good triangles facing that way, each vertex lies within maxError of the surface
+  // after, no new edge exists elsewhere, and the region has fewer folds after.
+  bool removeVertices(const std::vector<unsigned int>& gone) {
+    std::vector<std::uint32_t> fan;  // the region
+    for (unsigned int v : gone)
+      for (std::uint32_t t : star(v))
+        if (!dead(t) && std::find(fan.begin(), fan.end(), t) == fan.end()) fan.push_back(t);
+    const size_t m = fan.size();
+    if (m < 3 || m > kMaxFan) return false;
+    auto isGone = [&](unsigned int a) { return std::find(gone.begin(), gone.end(), a) != gone.end(); };
+    // The rim: the region's directed edges whose reverse is not in it (each with its triangle);
+    // they must make one cycle through vertices that stay, and the region a disc (Euler: a disc
+    // of r rim vertices and g inside has r + 2 g - 2 triangles).
+    struct Step {
+      unsigned int a, b;
+      std::uint32_t t;
+    };
+    std::vector<Step> steps;
+    auto inFan = [&](unsigned int a, unsigned int b) {
+      for (std::uint32_t t : fan)
+        for (int e = 0; e < 3; ++e)
+          if (ix_[3 * t + e] == a && ix_[3 * t + (e + 1) % 3] == b) return true;
+      return false;
+    };
+    for (std::uint32_t t : fan)
+      for (int e = 0; e < 3; ++e) {
+        const unsigned int a = ix_[3 * t + e], b = ix_[3 * t + (e + 1) % 3];
+        if (!inFan(b, a)) {
+          if (isGone(a) || isGone(b)) return false;
+          steps.push_back({a, b, t});
+        }
+      }
+    const size_t k = steps.size();
+    if (k < 3 || m != k + 2 * gone.size() - 2) return false;
+    std::vector<unsigned int> rim{steps[0].a};
+    std::vector<Step> ordered;
     for (size_t s = 0; s < k; ++s) {
-      unsigned int next = kDead;
+      const Step* next = nullptr;
       int found = 0;
-      for (const auto& [a, b] : steps)
-        if (a == rim.back()) next = b, ++found;
+      for (const Step& st : steps)
+        if (st.a == rim.back()) next = &st, ++found;
       if (found != 1) return false;
+      ordered.push_back(*next);
       if (s + 1 == k) {
-        if (next != rim[0]) return false;
+        if (next->b != rim[0]) return false;
       } else {
-        if (std::find(rim.begin(), rim.end(), next) != rim.end()) return false;
-        rim.push_back(next);
+        if (std::find(rim.begin(), rim.end(), next->b) != rim.end()) return false;
+        rim.push_back(next->b);
       }
     }
     // The rim's plane: its normal by Newell's method (the fan's summed area vector, whichever way
@@ -276,17 +299,19 @@ class Unfolder {
               (ix_[3 * u] == b || ix_[3 * u + 1] == b || ix_[3 * u + 2] == b))
             return false;
       }
-    // v itself within maxError of the surface after: the new triangles or the ones around the hole
-    // (a folding vertex often lies beyond its own rim, over a neighbour).
-    double dmin = std::numeric_limits<double>::infinity();
-    auto nearer = [&](unsigned int a, unsigned int b, unsigned int c) {
-      dmin = std::min(dmin, norm(closestOnTriangle(p(v), p(a), p(b), p(c)) - p(v)));
-    };
-    for (const auto& t : tris) nearer(t[0], t[1], t[2]);
-    for (size_t i = 0; i < k; ++i)
-      if (const long u = across(fan[i], steps[i].first, steps[i].second); u >= 0)
-        nearer(ix_[3 * static_cast<size_t>(u)], ix_[3 * static_cast<size_t>(u) + 1], ix_[3 * static_cast<size_t>(u) + 2]);
-    if (dmin > maxError_) return false;
+    // Each vertex within maxError of the surface after: the new triangles or the ones around the
+    // hole (a folding vertex often lies beyond its own rim, over a neighbour).
+    std::vector<std::array<unsigned int, 3>> after = tris;
+    for (const Step& st : ordered)
+      if (const long u = across(st.t, st.a, st.b); u >= 0) {
+        const size_t q = 3 * static_cast<size_t>(u);
+        after.push_back({ix_[q], ix_[q + 1], ix_[q + 2]});
+      }
+    for (unsigned int v : gone) {
+      double dmin = std::numeric_limits<double>::infinity();
+      for (const auto& t : after) dmin = std::min(dmin, norm(closestOnTriangle(p(v), p(t[0]), p(t[1]), p(t[2])) - p(v)));
+      if (dmin > maxError_) return false;
+    }
     // Fewer folds along the hole's edges after than along the fan's before (each counted from
     // both sides inside, once on the rim).
     auto folds = [&](size_t count) {
@@ -295,12 +320,12 @@ class Unfolder {
         for (int e = 0; e < 3; ++e) f += foldAt(fan[i], e);
       return f;
     };
-    const long before = folds(k);
+    const long before = folds(m);
     std::vector<std::array<unsigned int, 3>> old;
     for (std::uint32_t t : fan) old.push_back({ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
-    put(v, rim, fan, tris);
+    put(gone, rim, fan, tris);
     if (folds(tris.size()) < before) return true;
-    put(v, rim, fan, old);
+    put(gone, rim, fan, old);
     return false;
   }
 

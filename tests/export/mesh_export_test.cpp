@@ -115,7 +115,8 @@ size_t foldEdges(const TriangleMesh& mesh) {
 
 // The simplifier's collapses fold the surface over itself here and there (a triangle turned
 // upside down among its neighbours); the mesher takes the folding vertex out and fills its hole
-// again. The test plate had 35 fold edges before (9 now), and keeps its volume.
+// again, or the two ends of an edge where no one vertex will do. The test plate had 35 fold edges
+// before (6 now; 9 with single vertices only), and keeps its volume.
 TEST(MeshExport, DecimationLeavesFewFolds) {
   const Model model = modelOf(kPlate);
   MeshOptions o;
@@ -128,7 +129,7 @@ TEST(MeshExport, DecimationLeavesFewFolds) {
   const size_t folds = foldEdges(*mesh);
   std::printf("%zu triangles, %zu fold edges, %zu vertices taken out\n", mesh->triangles.size(), folds, st.foldVertices);
   EXPECT_GT(st.foldVertices, 0u);
-  EXPECT_LE(folds, 12u);
+  EXPECT_LE(folds, 8u);
   EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
   EXPECT_EQ(st.vertices, mesh->vertices.size()) << "the vertices taken out are dropped";
 }
