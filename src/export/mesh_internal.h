@@ -35,9 +35,9 @@ bool sliver(const float* a, const float* b, const float* c, float k = kSliver);
 void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos);
 // Removes the vertices of folds (two triangles across an edge more than 120 degrees apart: the
 // simplifier's collapses leave a few, the surface folded over itself) among the first n indices,
-// each by triangulating its fan's hole again where that makes good triangles, takes fewer folds
-// and moves the surface at the vertex by at most maxError; n becomes the new count. Returns how
-// many vertices went.
+// each (or, where no one vertex will do, the two ends of an edge) by triangulating the hole again
+// where that makes good triangles, takes fewer folds and moves the surface at the vertex by at
+// most maxError; n becomes the new count. Returns how many vertices went.
 size_t removeFolds(std::vector<unsigned int>& ix, size_t& n, const std::vector<float>& pos, double maxError);
 // Decimates within maxError tile by tile (tile: the first tiles' side, mm) on the pool; returns
 // how many tiles failed their check in the last round (left fine).
