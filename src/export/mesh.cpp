@@ -378,8 +378,8 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     }
   }
   // Slivers left anywhere (the fine mesh has a few too) are mended the same way, over the whole
-  // mesh; then the folds the simplifier left are taken out (the whole mesh at once: most of them
-  // lie on the tiles' rings, where no tile could reach them).
+  // mesh; then the folds and the thin triangles the simplifier left are taken out (the whole mesh
+  // at once: most folds lie on the tiles' rings, where no tile could reach them).
   {
     std::vector<unsigned int> ix(mesh.triangles.size() * 3);
     std::memcpy(ix.data(), mesh.triangles.data(), ix.size() * sizeof(unsigned int));
@@ -387,15 +387,15 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     std::memcpy(pos.data(), mesh.vertices.data(), pos.size() * sizeof(float));
     mendFlatTriangles(ix, ix.size(), pos);
     size_t n = ix.size();
-    const size_t folds = st.decimated ? removeFolds(ix, n, pos, options.maxError) : 0;
+    const VertexRemovals removed = st.decimated ? removeFoldsAndThinTriangles(ix, n, pos, options.maxError) : VertexRemovals{};
     TriangleMesh mended;
     mended.vertices = mesh.vertices;
     mended.triangles.resize(n / 3);
     std::memcpy(mended.triangles.data(), ix.data(), n * sizeof(unsigned int));
     if (checkClosedManifold(mended).empty()) {
       mesh = std::move(mended);
-      st.foldVertices = folds;
-      if (folds > 0) compact(mesh);
+      st.foldVertices = removed.folds, st.thinVertices = removed.thin;
+      if (removed.folds + removed.thin > 0) compact(mesh);
     }
   }
   report(0.9);

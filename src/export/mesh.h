@@ -46,6 +46,7 @@ struct MeshStats {
   bool decimated = false;
   std::size_t fineTiles = 0;  // decimation tiles kept fine (their simplified patch failed the check)
   std::size_t foldVertices = 0;  // vertices removed to take out folds the decimation left
+  std::size_t thinVertices = 0;  // and thin triangles (height under 1/1000 of the longest edge)
   double volume = 0.0;  // mm^3, from the final mesh
   double area = 0.0;    // mm^2
   // Distances to the model's surface (first order: |f| / |grad f|), in mm: of the vertices (max and

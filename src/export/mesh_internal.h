@@ -37,8 +37,14 @@ void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vecto
 // simplifier's collapses leave a few, the surface folded over itself) among the first n indices,
 // each (or, where no one vertex will do, the two ends of an edge) by triangulating the hole again
 // where that makes good triangles, takes fewer folds and moves the surface at the vertex by at
-// most maxError; n becomes the new count. Returns how many vertices went.
-size_t removeFolds(std::vector<unsigned int>& ix, size_t& n, const std::vector<float>& pos, double maxError);
+// most maxError; then, the same way, a vertex of each triangle still thinner than 1/1000 (height
+// to longest edge) where the hole's worst triangle is better and it folds no more. n becomes the
+// new count.
+struct VertexRemovals {
+  size_t folds = 0, thin = 0;  // vertices taken out for each
+};
+VertexRemovals removeFoldsAndThinTriangles(std::vector<unsigned int>& ix, size_t& n, const std::vector<float>& pos,
+                                           double maxError);
 // Decimates within maxError tile by tile (tile: the first tiles' side, mm) on the pool; returns
 // how many tiles failed their check in the last round (left fine).
 size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& pool);

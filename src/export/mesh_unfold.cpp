@@ -1,5 +1,5 @@
-// Folds left by simplification, taken out by removing a vertex and triangulating the hole again
-// (mesh_internal.h, docs/exports.md "Folds").
+// Folds and thin triangles left by simplification, taken out by removing a vertex and
+// triangulating the hole again (mesh_internal.h, docs/exports.md "Folds").
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -66,7 +66,11 @@ constexpr double kFoldCos = -0.5;
 // is not thin (under about 0.6 degrees).
 constexpr double kPlaneCos = 0.5;
 constexpr double kWorstShape = 0.01;
-// Holes of more triangles than this are not triangulated again (none seen near a fold has half).
+// A thin triangle: height under 1/1000 of its longest edge (its normal is float noise: a speck in a
+// smooth-shading reader). Its vertex goes where the hole's filling is better and folds no more.
+constexpr double kThin = 1e-3;
+// Holes of more triangles than this are not triangulated again (the polygon's tests grow with the
+// square of its rim).
 constexpr size_t kMaxFan = 24;
 
 class Unfolder {
@@ -82,7 +86,9 @@ class Unfolder {
     for (size_t i = 0; i < n_; ++i) tris_[fill[ix_[i]]++] = static_cast<std::uint32_t>(i / 3);
   }
 
-  size_t run() {
+  // Every vertex of a folded triangle, then the pairs; again while any goes (three passes at most).
+  // Returns how many vertices went.
+  size_t foldPasses() {
     size_t removed = 0;
     for (int pass = 0; pass < 3; ++pass) {
       std::vector<std::uint32_t> folded;
@@ -101,6 +107,24 @@ class Unfolder {
             now += 2 * removeVertices({ix_[3 * t + e], ix_[3 * t + (e + 1) % 3]});
       removed += now;
       if (now == 0) break;
+    }
+    return removed;
+  }
+
+  // Each triangle still thin: one of its vertices, the one off its longest edge first.
+  size_t thinPass() {
+    size_t removed = 0;
+    for (std::uint32_t t = 0; t < n_ / 3; ++t) {
+      if (dead(t)) continue;
+      const D3 a = p(ix_[3 * t]), b = p(ix_[3 * t + 1]), c = p(ix_[3 * t + 2]);
+      if (shapeOf(a, b, c) >= kThin) continue;
+      const double ab = dot(b - a, b - a), bc = dot(c - b, c - b), ca = dot(a - c, a - c);
+      const int off = ab >= bc && ab >= ca ? 2 : bc >= ca ? 0 : 1;
+      for (int k = 0; k < 3; ++k)
+        if (removeVertices({ix_[3 * t + (off + k) % 3]}, true)) {
+          ++removed;
+          break;
+        }
     }
     return removed;
   }
@@ -170,8 +194,9 @@ class Unfolder {
   // Removes the vertices `gone` (one, or the two ends of an edge) when the triangles around them
   // make a disc whose rim, seen along the rim's own normal, is a simple polygon that ear clipping
   // fills with good triangles facing that way, each vertex lies within maxError of the surface
-  // after, no new edge exists elsewhere, and the region has fewer folds after.
-  bool removeVertices(const std::vector<unsigned int>& gone) {
+  // after, no new edge exists elsewhere, and the region has fewer folds after (`thin`: no more
+  // folds, and its worst triangle better).
+  bool removeVertices(const std::vector<unsigned int>& gone, bool thin = false) {
     std::vector<std::uint32_t> fan;  // the region
     for (unsigned int v : gone)
       for (std::uint32_t t : star(v))
@@ -281,11 +306,13 @@ class Unfolder {
     }
     if (orient(poly[0], poly[1], poly[2]) <= eps) return false;
     tris.push_back({rim[poly[0]], rim[poly[1]], rim[poly[2]]});
+    double worstNew = 1.0;
     for (const auto& t : tris) {
       const D3 a = p(t[0]), b = p(t[1]), d = p(t[2]);
       const D3 m = cross(b - a, d - a);
       const double l = norm(m);
       if (!(l > 0.0) || dot(m, N) < kPlaneCos * l || shapeOf(a, b, d) < kWorstShape) return false;
+      worstNew = std::min(worstNew, shapeOf(a, b, d));
     }
     // A new edge inside the hole must not be an edge of a triangle outside the fan already.
     auto rimIndex = [&](unsigned int a) { return static_cast<size_t>(std::find(rim.begin(), rim.end(), a) - rim.begin()); };
@@ -301,15 +328,15 @@ class Unfolder {
       }
     // Each vertex within maxError of the surface after: the new triangles or the ones around the
     // hole (a folding vertex often lies beyond its own rim, over a neighbour).
-    std::vector<std::array<unsigned int, 3>> after = tris;
+    std::vector<std::array<unsigned int, 3>> around = tris;
     for (const Step& st : ordered)
       if (const long u = across(st.t, st.a, st.b); u >= 0) {
         const size_t q = 3 * static_cast<size_t>(u);
-        after.push_back({ix_[q], ix_[q + 1], ix_[q + 2]});
+        around.push_back({ix_[q], ix_[q + 1], ix_[q + 2]});
       }
     for (unsigned int v : gone) {
       double dmin = std::numeric_limits<double>::infinity();
-      for (const auto& t : after) dmin = std::min(dmin, norm(closestOnTriangle(p(v), p(t[0]), p(t[1]), p(t[2])) - p(v)));
+      for (const auto& t : around) dmin = std::min(dmin, norm(closestOnTriangle(p(v), p(t[0]), p(t[1]), p(t[2])) - p(v)));
       if (dmin > maxError_) return false;
     }
     // Fewer folds along the hole's edges after than along the fan's before (each counted from
@@ -321,10 +348,13 @@ class Unfolder {
       return f;
     };
     const long before = folds(m);
+    double worstOld = 1.0;
+    for (std::uint32_t t : fan) worstOld = std::min(worstOld, shapeOf(p(ix_[3 * t]), p(ix_[3 * t + 1]), p(ix_[3 * t + 2])));
     std::vector<std::array<unsigned int, 3>> old;
     for (std::uint32_t t : fan) old.push_back({ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
     put(gone, rim, fan, tris);
-    if (folds(tris.size()) < before) return true;
+    const long after = folds(tris.size());
+    if (thin ? after <= before && worstNew > worstOld : after < before) return true;
     put(gone, rim, fan, old);
     return false;
   }
@@ -339,11 +369,14 @@ class Unfolder {
 
 }  // namespace
 
-size_t removeFolds(std::vector<unsigned int>& ix, size_t& n, const std::vector<float>& pos, double maxError) {
+VertexRemovals removeFoldsAndThinTriangles(std::vector<unsigned int>& ix, size_t& n, const std::vector<float>& pos,
+                                           double maxError) {
   Unfolder u(ix, n, pos, maxError);
-  const size_t removed = u.run();
-  if (removed > 0) n = u.compacted();
-  return removed;
+  VertexRemovals r;
+  r.folds = u.foldPasses();
+  r.thin = u.thinPass();
+  if (r.folds + r.thin > 0) n = u.compacted();
+  return r;
 }
 
 }  // namespace emboss::mesh_detail

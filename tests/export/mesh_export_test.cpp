@@ -59,10 +59,6 @@ TEST(MeshExport, SheetIsClosedManifoldOnTheSurfaceAndKeepsItsVolume) {
   EXPECT_GT(top, 0.5f + 1.0f);
 }
 
-// Thin triangles left by the simplification: a triangle whose height is under 1/1000 of its longest
-// edge has a normal made of float noise, and a smooth-shading reader weights it by its near-straight
-// angle (a dark blotch on a flat face). They are flipped away where that makes better triangles in
-// the same face, and never across an edge of the sheet (the volume stays).
 // The test plate at 0.15 mm, decimated, checked closed and manifold.
 Result<TriangleMesh> decimatedPlate(MeshStats& st) {
   MeshOptions o;
@@ -76,6 +72,12 @@ Result<TriangleMesh> decimatedPlate(MeshStats& st) {
   return mesh;
 }
 
+// Thin triangles left by the simplification: a triangle whose height is under 1/1000 of its longest
+// edge has a normal made of float noise, and a smooth-shading reader weights it by its near-straight
+// angle (a dark blotch on a flat face). They are flipped away where that makes better triangles in
+// the same face, and never across an edge of the sheet (the volume stays); then a vertex of each
+// one left is taken out where its hole fills with better triangles. On the test plate: 2 008 before
+// either, 51 after the flips, 22 after both.
 TEST(MeshExport, DecimationLeavesFewThinTriangles) {
   MeshStats st;
   auto mesh = decimatedPlate(st);
@@ -92,7 +94,7 @@ TEST(MeshExport, DecimationLeavesFewThinTriangles) {
     thin += std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) < 1e-3 * l2;
   }
   std::printf("%zu triangles, %zu under 1/1000\n", mesh->triangles.size(), thin);
-  EXPECT_LT(thin, mesh->triangles.size() / 2000);
+  EXPECT_LT(thin, mesh->triangles.size() / 10000);
   EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
 }
 
@@ -136,63 +138,96 @@ TEST(MeshExport, DecimationLeavesFewFolds) {
   EXPECT_EQ(st.vertices, mesh->vertices.size()) << "the vertices taken out are dropped";
 }
 
-// A flat grid with one vertex pushed across the edge between two of its neighbours: a triangle of
-// its fan turns over. The vertex goes, its hole is filled with triangles facing up, and the mesh stays closed where it was
-// (the same border) with the same area.
-TEST(MeshExport, AFoldedVertexIsTakenOutAndItsHoleFilled) {
-  const int n = 6;
+// A flat n x n grid of unit squares in z = 0, two triangles a square, as the indices and positions
+// the mesher's clean-up works on.
+struct FlatGrid {
+  int n = 6;
   std::vector<float> pos;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) pos.insert(pos.end(), {float(i), float(j), 0.0f});
-  auto id = [&](int i, int j) { return static_cast<unsigned int>(j * (n + 1) + i); };
   std::vector<unsigned int> ix;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) ix.insert(ix.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-  auto area = [&](const std::vector<unsigned int>& t, size_t count, bool upOnly) {
-    double sum = 0;
-    for (size_t k = 0; k < count; k += 3) {
-      const float *a = &pos[3 * t[k]], *b = &pos[3 * t[k + 1]], *c = &pos[3 * t[k + 2]];
-      const double z = (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(b[1]) - a[1]) * (double(c[0]) - a[0]);
-      sum += upOnly ? std::max(0.0, z) : z;
-    }
-    return 0.5 * sum;
-  };
-  // (3, 3) pushed across the edge from (4, 3) to (4, 4), over the triangle beyond it.
-  pos[3 * id(3, 3)] = 4.2f, pos[3 * id(3, 3) + 1] = 3.5f;
-  auto toMesh = [&](const std::vector<unsigned int>& t, size_t count) {
+  FlatGrid() {
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) pos.insert(pos.end(), {float(i), float(j), 0.0f});
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) ix.insert(ix.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+  }
+  unsigned int id(int i, int j) const { return static_cast<unsigned int>(j * (n + 1) + i); }
+  TriangleMesh mesh(size_t count) const {
     TriangleMesh m;
     for (size_t v = 0; v < pos.size(); v += 3) m.vertices.push_back({pos[v], pos[v + 1], pos[v + 2]});
-    for (size_t k = 0; k < count; k += 3) m.triangles.push_back({t[k], t[k + 1], t[k + 2]});
+    for (size_t k = 0; k < count; k += 3) m.triangles.push_back({ix[k], ix[k + 1], ix[k + 2]});
     return m;
-  };
-  // And 0.01 above the plane: the surface after is that far from it.
-  pos[3 * id(3, 3) + 2] = 0.01f;
-  const size_t foldsBefore = foldEdges(toMesh(ix, ix.size()));
-  ASSERT_GT(foldsBefore, 0u);
-  size_t count = ix.size();
-  EXPECT_EQ(mesh_detail::removeFolds(ix, count, pos, 0.05), 1u);
-  EXPECT_EQ(count, ix.size() - 6) << "a vertex of six triangles gone: two triangles fewer";
-  const TriangleMesh after = toMesh(ix, count);
-  EXPECT_EQ(foldEdges(after), 0u);
-  for (const auto& t : after.triangles) EXPECT_TRUE(t[0] != id(3, 3) && t[1] != id(3, 3) && t[2] != id(3, 3));
-  EXPECT_NEAR(area(ix, count, true), double(n * n), 1e-9) << "every triangle faces up and the grid is covered once";
-  // The same border: the grid's outer edges, each once.
-  size_t borderEdges = 0;
-  std::map<std::pair<unsigned int, unsigned int>, int> uses;
-  for (size_t k = 0; k < count; k += 3)
-    for (int e = 0; e < 3; ++e) ++uses[{ix[k + e], ix[k + (e + 1) % 3]}];
-  for (const auto& [e, c] : uses) {
-    EXPECT_EQ(c, 1);
-    if (!uses.count({e.second, e.first})) ++borderEdges;
   }
-  EXPECT_EQ(borderEdges, size_t(4 * n));
-  // Further from the surface after than maxError (below the lift): left as it is.
-  std::vector<unsigned int> again;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) again.insert(again.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-  size_t kept = again.size();
-  EXPECT_EQ(mesh_detail::removeFolds(again, kept, pos, 0.001), 0u);
-  EXPECT_EQ(kept, again.size());
+  // The first `count` indices cover the grid once, every triangle facing up, with its border
+  // (the grid's outer edges) and every inner edge used once each way, and `gone` in none.
+  void expectCoveredOnce(size_t count, unsigned int gone) const {
+    double area = 0;
+    std::map<std::pair<unsigned int, unsigned int>, int> uses;
+    for (size_t k = 0; k < count; k += 3) {
+      const float *a = &pos[3 * ix[k]], *b = &pos[3 * ix[k + 1]], *c = &pos[3 * ix[k + 2]];
+      const double z = (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(b[1]) - a[1]) * (double(c[0]) - a[0]);
+      EXPECT_GT(z, 0.0) << "triangle " << k / 3 << " faces down";
+      area += 0.5 * z;
+      for (int e = 0; e < 3; ++e) {
+        ++uses[{ix[k + e], ix[k + (e + 1) % 3]}];
+        EXPECT_NE(ix[k + e], gone);
+      }
+    }
+    EXPECT_NEAR(area, double(n * n), 1e-6);
+    size_t border = 0;
+    for (const auto& [e, c] : uses) {
+      EXPECT_EQ(c, 1);
+      if (!uses.count({e.second, e.first})) ++border;
+    }
+    EXPECT_EQ(border, size_t(4 * n));
+  }
+};
+
+// One vertex of the grid pushed across the edge between two of its neighbours: a triangle of its
+// fan turns over. The vertex goes, its hole is filled with triangles facing up, and the border
+// stays; a vertex further from the surface after than maxError stays.
+TEST(MeshExport, AFoldedVertexIsTakenOutAndItsHoleFilled) {
+  FlatGrid g;
+  const unsigned int v = g.id(3, 3);
+  // Across the edge from (4, 3) to (4, 4), over the triangle beyond it, and 0.01 above the plane:
+  // the surface after is that far from it.
+  g.pos[3 * v] = 4.2f, g.pos[3 * v + 1] = 3.5f, g.pos[3 * v + 2] = 0.01f;
+  const std::vector<unsigned int> before = g.ix;
+  ASSERT_GT(foldEdges(g.mesh(g.ix.size())), 0u);
+  size_t count = g.ix.size();
+  const auto removed = mesh_detail::removeFoldsAndThinTriangles(g.ix, count, g.pos, 0.05);
+  EXPECT_EQ(removed.folds, 1u);
+  EXPECT_EQ(removed.thin, 0u);
+  EXPECT_EQ(count, g.ix.size() - 6) << "a vertex of six triangles gone: two triangles fewer";
+  EXPECT_EQ(foldEdges(g.mesh(count)), 0u);
+  g.expectCoveredOnce(count, v);
+  // maxError below the lift: left as it is.
+  g.ix = before;
+  count = g.ix.size();
+  EXPECT_EQ(mesh_detail::removeFoldsAndThinTriangles(g.ix, count, g.pos, 0.001).folds, 0u);
+  EXPECT_EQ(count, g.ix.size());
+  EXPECT_EQ(g.ix, before);
+}
+
+// One vertex of the grid 1e-4 from the edge between two of its neighbours: a triangle of its fan
+// is thin (its normal float noise, a speck in a smooth-shading viewer). The vertex goes and the
+// hole's triangles are all better than that one.
+TEST(MeshExport, AThinTrianglesVertexIsTakenOut) {
+  FlatGrid g;
+  const unsigned int v = g.id(3, 3);
+  g.pos[3 * v] = 4.0f - 1e-4f, g.pos[3 * v + 1] = 3.5f;
+  size_t count = g.ix.size();
+  const auto removed = mesh_detail::removeFoldsAndThinTriangles(g.ix, count, g.pos, 0.01);
+  EXPECT_EQ(removed.folds, 0u);
+  EXPECT_EQ(removed.thin, 1u);
+  EXPECT_EQ(count, g.ix.size() - 6);
+  g.expectCoveredOnce(count, v);
+  for (size_t k = 0; k < count; k += 3) {
+    const float *a = &g.pos[3 * g.ix[k]], *b = &g.pos[3 * g.ix[k + 1]], *c = &g.pos[3 * g.ix[k + 2]];
+    const double z = (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(b[1]) - a[1]) * (double(c[0]) - a[0]);
+    const double l2 = std::max({std::hypot(b[0] - a[0], b[1] - a[1]), std::hypot(c[0] - b[0], c[1] - b[1]),
+                                std::hypot(a[0] - c[0], a[1] - c[1])});
+    EXPECT_GT(z / (l2 * l2), 0.1) << "triangle " << k / 3 << " is thin";
+  }
 }
 
 TEST(MeshExport, AHoleThroughTheSheetStaysClosed) {
