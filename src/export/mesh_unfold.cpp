@@ -201,8 +201,8 @@ class Unfolder {
     for (unsigned int v : gone)
       for (std::uint32_t t : star(v))
         if (!dead(t) && std::find(fan.begin(), fan.end(), t) == fan.end()) fan.push_back(t);
-    const size_t m = fan.size();
-    if (m < 3 || m > kMaxFan) return false;
+    const size_t region = fan.size();
+    if (region < 3 || region > kMaxFan) return false;
     auto isGone = [&](unsigned int a) { return std::find(gone.begin(), gone.end(), a) != gone.end(); };
     // The rim: the region's directed edges whose reverse is not in it (each with its triangle);
     // they must make one cycle through vertices that stay, and the region a disc (Euler: a disc
@@ -227,7 +227,7 @@ class Unfolder {
         }
       }
     const size_t k = steps.size();
-    if (k < 3 || m != k + 2 * gone.size() - 2) return false;
+    if (k < 3 || region != k + 2 * gone.size() - 2) return false;
     std::vector<unsigned int> rim{steps[0].a};
     std::vector<Step> ordered;
     for (size_t s = 0; s < k; ++s) {
@@ -347,7 +347,7 @@ class Unfolder {
         for (int e = 0; e < 3; ++e) f += foldAt(fan[i], e);
       return f;
     };
-    const long before = folds(m);
+    const long before = folds(region);
     double worstOld = 1.0;
     for (std::uint32_t t : fan) worstOld = std::min(worstOld, shapeOf(p(ix_[3 * t]), p(ix_[3 * t + 1]), p(ix_[3 * t + 2])));
     std::vector<std::array<unsigned int, 3>> old;
