@@ -387,7 +387,8 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     std::memcpy(pos.data(), mesh.vertices.data(), pos.size() * sizeof(float));
     mendFlatTriangles(ix, ix.size(), pos);
     size_t n = ix.size();
-    const VertexRemovals removed = st.decimated ? removeFoldsAndThinTriangles(ix, n, pos, options.maxError) : VertexRemovals{};
+    const VertexRemovals removed =
+        st.decimated ? removeFoldsAndThinTriangles(ix, n, pos, options.maxError) : VertexRemovals{};
     TriangleMesh mended;
     mended.vertices = mesh.vertices;
     mended.triangles.resize(n / 3);

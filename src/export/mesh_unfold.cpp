@@ -8,55 +8,50 @@
 #include <span>
 #include <unordered_map>
 
+#include <glm/glm.hpp>
+
 #include "export/mesh_internal.h"
 
 namespace emboss::mesh_detail {
 
 namespace {
 
-struct D3 {
-  double x, y, z;
-};
-D3 operator-(const D3& a, const D3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-D3 cross(const D3& a, const D3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double dot(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double norm(const D3& a) { return std::sqrt(dot(a, a)); }
-D3 scaled(const D3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+using D3 = glm::dvec3;
 
 // The point of triangle abc closest to p (Ericson, "Real-Time Collision Detection", 5.1.5).
 D3 closestOnTriangle(const D3& p, const D3& a, const D3& b, const D3& c) {
   const D3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
   if (d1 <= 0 && d2 <= 0) return a;
   const D3 bp = p - b;
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
   if (d3 >= 0 && d4 <= d3) return b;
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0 && d1 >= 0 && d3 <= 0) {
     const double v = d1 / (d1 - d3);
-    return {a.x + v * ab.x, a.y + v * ab.y, a.z + v * ab.z};
+    return a + v * ab;
   }
   const D3 cp = p - c;
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
   if (d6 >= 0 && d5 <= d6) return c;
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) {
     const double w = d2 / (d2 - d6);
-    return {a.x + w * ac.x, a.y + w * ac.y, a.z + w * ac.z};
+    return a + w * ac;
   }
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
     const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {b.x + w * (c.x - b.x), b.y + w * (c.y - b.y), b.z + w * (c.z - b.z)};
+    return b + w * (c - b);
   }
   const double s = 1.0 / (va + vb + vc), v = vb * s, w = vc * s;
-  return {a.x + ab.x * v + ac.x * w, a.y + ab.y * v + ac.y * w, a.z + ab.z * v + ac.z * w};
+  return a + ab * v + ac * w;
 }
 
 // |cross| / (longest edge)^2, as shape() in mesh_decimate.cpp but in doubles.
 double shapeOf(const D3& a, const D3& b, const D3& c) {
-  const double l = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
-  return l > 0.0 ? norm(cross(b - a, c - a)) / l : 0.0;
+  const double l = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+  return l > 0.0 ? glm::length(glm::cross(b - a, c - a)) / l : 0.0;
 }
 
 constexpr unsigned int kDead = 0xffffffffu;
@@ -93,7 +88,7 @@ class Unfolder {
     for (int pass = 0; pass < 3; ++pass) {
       std::vector<std::uint32_t> folded;
       for (std::uint32_t t = 0; t < n_ / 3; ++t)
-        if (!dead(t) && (foldAt(t, 0) || foldAt(t, 1) || foldAt(t, 2))) folded.push_back(t);
+        if (!dead(t) && isFolded(t)) folded.push_back(t);
       std::vector<unsigned int> cand;
       for (std::uint32_t t : folded) cand.insert(cand.end(), {ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
       std::sort(cand.begin(), cand.end());
@@ -101,10 +96,16 @@ class Unfolder {
       size_t now = 0;
       for (unsigned int v : cand) now += removeVertices({v});
       // Where no one vertex would do: the two ends of an edge of a triangle still folded.
-      for (std::uint32_t t : folded)
-        for (int e = 0; e < 3 && !dead(t); ++e)
-          if (foldAt(t, 0) || foldAt(t, 1) || foldAt(t, 2))
-            now += 2 * removeVertices({ix_[3 * t + e], ix_[3 * t + (e + 1) % 3]});
+      // (A removal that fails leaves the mesh as it was: t is checked again only after one that
+      // went.)
+      for (std::uint32_t t : folded) {
+        bool stillFolded = !dead(t) && isFolded(t);
+        for (int e = 0; e < 3 && stillFolded; ++e)
+          if (removeVertices({ix_[3 * t + e], ix_[3 * t + (e + 1) % 3]})) {
+            now += 2;
+            stillFolded = !dead(t) && isFolded(t);
+          }
+      }
       removed += now;
       if (now == 0) break;
     }
@@ -118,7 +119,7 @@ class Unfolder {
       if (dead(t)) continue;
       const D3 a = p(ix_[3 * t]), b = p(ix_[3 * t + 1]), c = p(ix_[3 * t + 2]);
       if (shapeOf(a, b, c) >= kThin) continue;
-      const double ab = dot(b - a, b - a), bc = dot(c - b, c - b), ca = dot(a - c, a - c);
+      const double ab = glm::dot(b - a, b - a), bc = glm::dot(c - b, c - b), ca = glm::dot(a - c, a - c);
       const int off = ab >= bc && ab >= ca ? 2 : bc >= ca ? 0 : 1;
       for (int k = 0; k < 3; ++k)
         if (removeVertices({ix_[3 * t + (off + k) % 3]}, true)) {
@@ -154,9 +155,9 @@ class Unfolder {
   }
   bool dead(std::uint32_t t) const { return ix_[3 * t] == kDead; }
   D3 normal(std::uint32_t t) const {
-    const D3 a = p(ix_[3 * t]), m = cross(p(ix_[3 * t + 1]) - a, p(ix_[3 * t + 2]) - a);
-    const double l = norm(m);
-    return l > 0.0 ? scaled(m, 1.0 / l) : D3{0, 0, 0};
+    const D3 a = p(ix_[3 * t]), m = glm::cross(p(ix_[3 * t + 1]) - a, p(ix_[3 * t + 2]) - a);
+    const double l = glm::length(m);
+    return l > 0.0 ? m * (1.0 / l) : D3(0.0);
   }
   // The live triangle other than t with the directed edge (b, a), or -1.
   long across(std::uint32_t t, unsigned int a, unsigned int b) const {
@@ -169,8 +170,9 @@ class Unfolder {
   }
   bool foldAt(std::uint32_t t, int k) const {
     const long u = across(t, ix_[3 * t + k], ix_[3 * t + (k + 1) % 3]);
-    return u >= 0 && dot(normal(t), normal(static_cast<std::uint32_t>(u))) < kFoldCos;
+    return u >= 0 && glm::dot(normal(t), normal(static_cast<std::uint32_t>(u))) < kFoldCos;
   }
+  bool isFolded(std::uint32_t t) const { return foldAt(t, 0) || foldAt(t, 1) || foldAt(t, 2); }
   // Replaces the triangles `slots` (the region around the removed vertices `gone`, its rim `rim`)
   // by `tris` (fewer), keeping the stars right: the first slots take the new triangles, the rest die.
   void put(const std::vector<unsigned int>& gone, const std::vector<unsigned int>& rim,
@@ -246,24 +248,24 @@ class Unfolder {
     }
     // The rim's plane: its normal by Newell's method (the fan's summed area vector, whichever way
     // its triangles face), the rim in coordinates of that plane.
-    D3 c{0, 0, 0};
-    for (unsigned int a : rim) c = {c.x + p(a).x, c.y + p(a).y, c.z + p(a).z};
-    c = scaled(c, 1.0 / static_cast<double>(k));
-    D3 nn{0, 0, 0};
+    D3 c(0.0);
+    for (unsigned int a : rim) c += p(a);
+    c *= 1.0 / static_cast<double>(k);
+    D3 nn(0.0);
     for (size_t i = 0; i < k; ++i) {
-      const D3 m = cross(p(rim[i]) - c, p(rim[(i + 1) % k]) - c);
-      nn = {nn.x + m.x, nn.y + m.y, nn.z + m.z};
+      const D3 m = glm::cross(p(rim[i]) - c, p(rim[(i + 1) % k]) - c);
+      nn += m;
     }
-    const double nl = norm(nn);
+    const double nl = glm::length(nn);
     if (!(nl > 0.0)) return false;
-    const D3 N = scaled(nn, 1.0 / nl);
-    const D3 axis = std::abs(N.x) < 0.6 ? D3{1, 0, 0} : D3{0, 1, 0};
-    const D3 e1 = scaled(cross(N, axis), 1.0 / norm(cross(N, axis))), e2 = cross(N, e1);
+    const D3 N = nn * (1.0 / nl);
+    const D3 axis = std::abs(N.x) < 0.6 ? D3(1, 0, 0) : D3(0, 1, 0);
+    const D3 e1 = glm::cross(N, axis) * (1.0 / glm::length(glm::cross(N, axis))), e2 = glm::cross(N, e1);
     std::vector<double> qx(k), qy(k);
     double extent = 0.0;
     for (size_t i = 0; i < k; ++i) {
       const D3 d = p(rim[i]) - c;
-      qx[i] = dot(d, e1), qy[i] = dot(d, e2);
+      qx[i] = glm::dot(d, e1), qy[i] = glm::dot(d, e2);
       extent = std::max(extent, std::abs(qx[i]) + std::abs(qy[i]));
     }
     auto orient = [&](size_t a, size_t b, size_t d) {
@@ -309,9 +311,9 @@ class Unfolder {
     double worstNew = 1.0;
     for (const auto& t : tris) {
       const D3 a = p(t[0]), b = p(t[1]), d = p(t[2]);
-      const D3 m = cross(b - a, d - a);
-      const double l = norm(m);
-      if (!(l > 0.0) || dot(m, N) < kPlaneCos * l || shapeOf(a, b, d) < kWorstShape) return false;
+      const D3 m = glm::cross(b - a, d - a);
+      const double l = glm::length(m);
+      if (!(l > 0.0) || glm::dot(m, N) < kPlaneCos * l || shapeOf(a, b, d) < kWorstShape) return false;
       worstNew = std::min(worstNew, shapeOf(a, b, d));
     }
     // A new edge inside the hole must not be an edge of a triangle outside the fan already.
@@ -336,7 +338,7 @@ class Unfolder {
       }
     for (unsigned int v : gone) {
       double dmin = std::numeric_limits<double>::infinity();
-      for (const auto& t : around) dmin = std::min(dmin, norm(closestOnTriangle(p(v), p(t[0]), p(t[1]), p(t[2])) - p(v)));
+      for (const auto& t : around) dmin = std::min(dmin, glm::length(closestOnTriangle(p(v), p(t[0]), p(t[1]), p(t[2])) - p(v)));
       if (dmin > maxError_) return false;
     }
     // Fewer folds along the hole's edges after than along the fan's before (each counted from
