@@ -142,6 +142,11 @@ class Unfolder {
   }
 
  private:
+  // A directed edge of a region's rim, and the region's triangle it belongs to.
+  struct Step {
+    unsigned int a, b;
+    std::uint32_t t;
+  };
   D3 p(unsigned int v) const { return {pos_[3 * v], pos_[3 * v + 1], pos_[3 * v + 2]}; }
   // The triangles using v (dead ones among them too).
   std::span<const std::uint32_t> star(unsigned int v) const {
@@ -194,10 +199,11 @@ class Unfolder {
   }
 
   // Removes the vertices `gone` (one, or the two ends of an edge) when the triangles around them
-  // make a disc whose rim, seen along the rim's own normal, is a simple polygon that ear clipping
-  // fills with good triangles facing that way, each vertex lies within maxError of the surface
-  // after, no new edge exists elsewhere, and the region has fewer folds after (`thin`: no more
-  // folds, and its worst triangle better).
+  // make a disc whose hole can be filled again: by ear clipping, where the rim seen along its own
+  // normal is a simple polygon and the new triangles are good and face that way; else, for one
+  // vertex, by collapsing its edge onto a rim vertex. Either is kept only where each vertex lies
+  // within maxError of the surface after, no new edge exists elsewhere, and the region has fewer
+  // folds after (`thin`: no more folds, and its worst triangle better) (tryFill).
   bool removeVertices(const std::vector<unsigned int>& gone, bool thin = false) {
     std::vector<std::uint32_t> fan;  // the region
     for (unsigned int v : gone)
@@ -209,10 +215,6 @@ class Unfolder {
     // The rim: the region's directed edges whose reverse is not in it (each with its triangle);
     // they must make one cycle through vertices that stay, and the region a disc (Euler: a disc
     // of r rim vertices and g inside has r + 2 g - 2 triangles).
-    struct Step {
-      unsigned int a, b;
-      std::uint32_t t;
-    };
     std::vector<Step> steps;
     auto inFan = [&](unsigned int a, unsigned int b) {
       for (std::uint32_t t : fan)
@@ -246,6 +248,46 @@ class Unfolder {
         rim.push_back(next->b);
       }
     }
+    std::vector<std::array<unsigned int, 3>> tris;
+    if (earFill(rim, tris) && tryFill(gone, thin, fan, rim, ordered, tris, false)) return true;
+    if (gone.size() != 1) return false;
+    // A vertex where the surface turns (the sheet's face and its side wall): no one plane holds
+    // its hole. Its edge collapsed instead onto a rim vertex, the one whose fan is best shaped
+    // first: each new triangle faces within 60 degrees of the one it replaces, or of the one
+    // across its rim edge.
+    std::vector<std::pair<double, size_t>> apexes;
+    for (size_t j = 0; j < k; ++j) {
+      double worst = 1.0;
+      bool ok = true;
+      for (size_t i = 0; i < k && ok; ++i) {
+        const size_t i1 = (i + 1) % k;
+        if (i == j || i1 == j) continue;
+        const D3 a = p(rim[j]), b = p(rim[i]), d = p(rim[i1]);
+        const D3 m = glm::cross(b - a, d - a);
+        const double l = glm::length(m), s = shapeOf(a, b, d);
+        const D3 replaced = normal(ordered[i].t);
+        const long u = across(ordered[i].t, ordered[i].a, ordered[i].b);
+        const bool faces = glm::dot(m, replaced) >= kPlaneCos * l ||
+                           (u >= 0 && glm::dot(m, normal(static_cast<std::uint32_t>(u))) >= kPlaneCos * l);
+        ok = l > 0.0 && s >= kWorstShape && faces;
+        worst = std::min(worst, s);
+      }
+      if (ok) apexes.push_back({worst, j});
+    }
+    std::sort(apexes.begin(), apexes.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    for (const auto& [worst, j] : apexes) {
+      tris.clear();
+      for (size_t i = 0; i < k; ++i)
+        if (i != j && (i + 1) % k != j) tris.push_back({rim[j], rim[i], rim[(i + 1) % k]});
+      if (tryFill(gone, thin, fan, rim, ordered, tris, true)) return true;
+    }
+    return false;
+  }
+
+  // Fills the hole of rim `rim` by ear clipping in the rim's own plane; false where the rim, seen
+  // along that plane's normal, is no simple polygon, or a triangle would be thin or face away.
+  bool earFill(const std::vector<unsigned int>& rim, std::vector<std::array<unsigned int, 3>>& tris) const {
+    const size_t k = rim.size();
     // The rim's plane: its normal by Newell's method (the fan's summed area vector, whichever way
     // its triangles face), the rim in coordinates of that plane.
     D3 c(0.0);
@@ -284,7 +326,6 @@ class Unfolder {
     // Ear clipping, the best-shaped ear first.
     std::vector<size_t> poly(k);
     for (size_t i = 0; i < k; ++i) poly[i] = i;
-    std::vector<std::array<unsigned int, 3>> tris;
     while (poly.size() > 3) {
       const size_t m = poly.size();
       double best = -1.0;
@@ -308,14 +349,25 @@ class Unfolder {
     }
     if (orient(poly[0], poly[1], poly[2]) <= eps) return false;
     tris.push_back({rim[poly[0]], rim[poly[1]], rim[poly[2]]});
-    double worstNew = 1.0;
     for (const auto& t : tris) {
       const D3 a = p(t[0]), b = p(t[1]), d = p(t[2]);
       const D3 m = glm::cross(b - a, d - a);
       const double l = glm::length(m);
       if (!(l > 0.0) || glm::dot(m, N) < kPlaneCos * l || shapeOf(a, b, d) < kWorstShape) return false;
-      worstNew = std::min(worstNew, shapeOf(a, b, d));
     }
+    return true;
+  }
+
+  // Puts `tris` in the place of the region `fan` (around `gone`, of rim `rim`) when no new edge
+  // exists elsewhere already, each removed vertex lies within maxError of the surface after (and
+  // a collapse's triangles within it of the surface before), and the region has fewer folds after
+  // (`thin`: no more, and its worst triangle better); else leaves the mesh as it was.
+  bool tryFill(const std::vector<unsigned int>& gone, bool thin, const std::vector<std::uint32_t>& fan,
+               const std::vector<unsigned int>& rim, const std::vector<Step>& ordered,
+               const std::vector<std::array<unsigned int, 3>>& tris, bool collapse) {
+    const size_t k = rim.size(), region = fan.size();
+    double worstNew = 1.0;
+    for (const auto& t : tris) worstNew = std::min(worstNew, shapeOf(p(t[0]), p(t[1]), p(t[2])));
     // A new edge inside the hole must not be an edge of a triangle outside the fan already.
     auto rimIndex = [&](unsigned int a) { return static_cast<size_t>(std::find(rim.begin(), rim.end(), a) - rim.begin()); };
     for (const auto& t : tris)
@@ -336,10 +388,24 @@ class Unfolder {
         const size_t q = 3 * static_cast<size_t>(u);
         around.push_back({ix_[q], ix_[q + 1], ix_[q + 2]});
       }
-    for (unsigned int v : gone) {
+    auto distance = [&](const D3& q, const std::vector<std::array<unsigned int, 3>>& surface) {
       double dmin = std::numeric_limits<double>::infinity();
-      for (const auto& t : around) dmin = std::min(dmin, glm::length(closestOnTriangle(p(v), p(t[0]), p(t[1]), p(t[2])) - p(v)));
-      if (dmin > maxError_) return false;
+      for (const auto& t : surface) dmin = std::min(dmin, glm::length(closestOnTriangle(q, p(t[0]), p(t[1]), p(t[2])) - q));
+      return dmin;
+    };
+    for (unsigned int v : gone)
+      if (distance(p(v), around) > maxError_) return false;
+    // A collapse's triangles, too, within maxError of the surface before (the region and the
+    // triangles around it), at their centres and their edges' midpoints: across a turn of the
+    // surface they could cut its corner while the vertex lies near a neighbour.
+    if (collapse) {
+      std::vector<std::array<unsigned int, 3>> surface(around.begin() + static_cast<std::ptrdiff_t>(tris.size()), around.end());
+      for (std::uint32_t t : fan) surface.push_back({ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
+      for (const auto& t : tris) {
+        const D3 a = p(t[0]), b = p(t[1]), d = p(t[2]);
+        for (const D3& q : {(a + b + d) * (1.0 / 3.0), 0.5 * (a + b), 0.5 * (b + d), 0.5 * (d + a)})
+          if (distance(q, surface) > maxError_) return false;
+      }
     }
     // Fewer folds along the hole's edges after than along the fan's before (each counted from
     // both sides inside, once on the rim).

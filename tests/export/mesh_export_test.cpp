@@ -76,8 +76,8 @@ Result<TriangleMesh> decimatedPlate(MeshStats& st) {
 // edge has a normal made of float noise, and a smooth-shading reader weights it by its near-straight
 // angle (a dark blotch on a flat face). They are flipped away where that makes better triangles in
 // the same face, and never across an edge of the sheet (the volume stays); then a vertex of each
-// one left is taken out where its hole fills with better triangles. On the test plate: 2 008 before
-// either, 51 after the flips, 22 after both.
+// one left is taken out where its hole fills with better triangles, or else its edge collapsed. On
+// the test plate: 2 008 before either, 51 after the flips, 22 after both without collapses, 9 with.
 TEST(MeshExport, DecimationLeavesFewThinTriangles) {
   MeshStats st;
   auto mesh = decimatedPlate(st);
@@ -94,7 +94,7 @@ TEST(MeshExport, DecimationLeavesFewThinTriangles) {
     thin += std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) < 1e-3 * l2;
   }
   std::printf("%zu triangles, %zu under 1/1000\n", mesh->triangles.size(), thin);
-  EXPECT_LT(thin, mesh->triangles.size() / 10000);
+  EXPECT_LT(thin, mesh->triangles.size() / 20000);
   EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
 }
 
@@ -124,8 +124,9 @@ size_t foldEdges(const TriangleMesh& mesh) {
 
 // The simplifier's collapses fold the surface over itself here and there (a triangle turned
 // upside down among its neighbours); the mesher takes the folding vertex out and fills its hole
-// again, or the two ends of an edge where no one vertex will do. The test plate had 35 fold edges
-// before (6 now; 9 with single vertices only), and keeps its volume.
+// again (or collapses its edge where no one plane holds the hole), or takes out the two ends of an
+// edge where no one vertex will do. The test plate had 35 fold edges before (3 now; 6 without the
+// collapses; 9 with single vertices only, filled by ear clipping), and keeps its volume.
 TEST(MeshExport, DecimationLeavesFewFolds) {
   MeshStats st;
   auto mesh = decimatedPlate(st);
@@ -133,7 +134,7 @@ TEST(MeshExport, DecimationLeavesFewFolds) {
   const size_t folds = foldEdges(*mesh);
   std::printf("%zu triangles, %zu fold edges, %zu vertices taken out\n", mesh->triangles.size(), folds, st.foldVertices);
   EXPECT_GT(st.foldVertices, 0u);
-  EXPECT_LE(folds, 8u);
+  EXPECT_LE(folds, 4u);
   EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
   EXPECT_EQ(st.vertices, mesh->vertices.size()) << "the vertices taken out are dropped";
 }
@@ -228,6 +229,42 @@ TEST(MeshExport, AThinTrianglesVertexIsTakenOut) {
                                 std::hypot(a[0] - c[0], a[1] - c[1])});
     EXPECT_GT(z / (l2 * l2), 0.1) << "triangle " << k / 3 << " is thin";
   }
+}
+
+// The grid bent down along its row j = 3 (a sheet's face and its side wall), and one vertex of
+// that crease pushed along it beyond its neighbour: two triangles of its fan turn over. No one
+// plane holds the hole there; the vertex's edge is collapsed instead, and the crease stays: every
+// triangle after lies on the face or the wall, and the corner is not cut.
+TEST(MeshExport, AFoldedVertexOnACreaseIsTakenOutAndTheCreaseKept) {
+  FlatGrid g;
+  for (int j = 4; j <= g.n; ++j)
+    for (int i = 0; i <= g.n; ++i) {
+      float* q = &g.pos[3 * g.id(i, j)];
+      q[1] = 3.0f, q[2] = -static_cast<float>(j - 3);
+    }
+  const unsigned int v = g.id(3, 3);
+  g.pos[3 * v] = 4.4f;
+  ASSERT_GT(foldEdges(g.mesh(g.ix.size())), 0u);
+  size_t count = g.ix.size();
+  const auto removed = mesh_detail::removeFoldsAndThinTriangles(g.ix, count, g.pos, 0.05);
+  EXPECT_GE(removed.folds, 1u);
+  EXPECT_EQ(count, g.ix.size() - 6 * removed.folds) << "each vertex gone: two triangles fewer";
+  EXPECT_EQ(foldEdges(g.mesh(count)), 0u);
+  // How far a point is from the bent grid: the face (z = 0, y <= 3) or the wall (y = 3, z <= 0).
+  auto off = [](double y, double z) {
+    return std::min(y <= 3.0 ? std::abs(z) : std::hypot(y - 3.0, z), z <= 0.0 ? std::abs(y - 3.0) : std::hypot(y - 3.0, z));
+  };
+  std::map<std::pair<unsigned int, unsigned int>, int> uses;
+  for (size_t k = 0; k < count; k += 3) {
+    const float *a = &g.pos[3 * g.ix[k]], *b = &g.pos[3 * g.ix[k + 1]], *c = &g.pos[3 * g.ix[k + 2]];
+    for (int e = 0; e < 3; ++e) {
+      EXPECT_NE(g.ix[k + e], v);
+      ++uses[{g.ix[k + e], g.ix[k + (e + 1) % 3]}];
+    }
+    const double cy = (double(a[1]) + b[1] + c[1]) / 3.0, cz = (double(a[2]) + b[2] + c[2]) / 3.0;
+    EXPECT_LT(off(cy, cz), 1e-6) << "triangle " << k / 3 << " cuts the corner";
+  }
+  for (const auto& [e, n] : uses) EXPECT_EQ(n, 1);
 }
 
 TEST(MeshExport, AHoleThroughTheSheetStaysClosed) {
