@@ -252,9 +252,9 @@ class Unfolder {
     if (earFill(rim, tris) && tryFill(gone, thin, fan, rim, ordered, tris, false)) return true;
     if (gone.size() != 1) return false;
     // A vertex where the surface turns (the sheet's face and its side wall): no one plane holds
-    // its hole. Its edge collapsed instead onto a rim vertex, the one whose fan is best shaped
-    // first: each new triangle faces within 60 degrees of the one it replaces, or of the one
-    // across its rim edge.
+    // its hole. Its edge to a rim vertex is collapsed instead (the hole filled by a fan from that
+    // vertex), the rim vertex whose fan is best shaped tried first: each new triangle must face
+    // within 60 degrees of the one it replaces, or of the one across its rim edge.
     std::vector<std::pair<double, size_t>> apexes;
     for (size_t j = 0; j < k; ++j) {
       double worst = 1.0;
