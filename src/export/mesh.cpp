@@ -389,14 +389,15 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
     size_t n = ix.size();
     const VertexRemovals removed =
         st.decimated ? removeFoldsAndThinTriangles(ix, n, pos, options.maxError) : VertexRemovals{};
-    TriangleMesh mended;
-    mended.vertices = mesh.vertices;
-    mended.triangles.resize(n / 3);
-    std::memcpy(mended.triangles.data(), ix.data(), n * sizeof(unsigned int));
-    if (checkClosedManifold(mended).empty()) {
-      mesh = std::move(mended);
+    // Checked in place (the vertices stay as they are: no copy of them), put back if it fails.
+    auto before = std::move(mesh.triangles);
+    mesh.triangles.resize(n / 3);
+    std::memcpy(mesh.triangles.data(), ix.data(), n * sizeof(unsigned int));
+    if (checkClosedManifold(mesh).empty()) {
       st.foldVertices = removed.folds, st.thinVertices = removed.thin;
       if (removed.folds + removed.thin > 0) compact(mesh);
+    } else {
+      mesh.triangles = std::move(before);
     }
   }
   report(0.9);

@@ -36,8 +36,9 @@ void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vecto
 // Removes the vertices of folds (two triangles across an edge more than 120 degrees apart: the
 // simplifier's collapses leave a few, the surface folded over itself) among the first n indices,
 // each (or, where no one vertex will do, the two ends of an edge) by triangulating the hole again
-// where that makes good triangles, takes fewer folds and moves the surface at the vertex by at
-// most maxError; then, the same way, a vertex of each triangle still thinner than 1/1000 (height
+// (ear clipping in the plane of its rim, or where no plane holds it, a single vertex's edge
+// collapsed onto its rim) where that makes good triangles, takes fewer folds and moves the
+// surface at the vertex by at most maxError; then, the same way, a vertex of each triangle still thinner than 1/1000 (height
 // to longest edge) where the hole's worst triangle is better and it folds no more. n becomes the
 // new count.
 struct VertexRemovals {

@@ -147,6 +147,16 @@ class Unfolder {
     unsigned int a, b;
     std::uint32_t t;
   };
+  // A region to take out: the vertices that go, its triangles (their indices and corners as they
+  // are), its rim, and per rim edge the triangle across it (-1: none) and those triangles.
+  struct Region {
+    const std::vector<unsigned int>& gone;
+    const std::vector<std::uint32_t>& fan;
+    const std::vector<unsigned int>& rim;
+    std::vector<std::array<unsigned int, 3>> old;
+    std::vector<long> across;
+    std::vector<std::array<unsigned int, 3>> outside;
+  };
   D3 p(unsigned int v) const { return {pos_[3 * v], pos_[3 * v + 1], pos_[3 * v + 2]}; }
   // The triangles using v (dead ones among them too).
   std::span<const std::uint32_t> star(unsigned int v) const {
@@ -248,8 +258,19 @@ class Unfolder {
         rim.push_back(next->b);
       }
     }
+    // The region's triangles as they are, and the triangle across each rim edge (-1: none), for
+    // every fill tried.
+    Region r{gone, fan, rim, {}, {}, {}};
+    for (std::uint32_t t : fan) r.old.push_back({ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
+    for (const Step& st : ordered) {
+      r.across.push_back(across(st.t, st.a, st.b));
+      if (const long u = r.across.back(); u >= 0) {
+        const size_t q = 3 * static_cast<size_t>(u);
+        r.outside.push_back({ix_[q], ix_[q + 1], ix_[q + 2]});
+      }
+    }
     std::vector<std::array<unsigned int, 3>> tris;
-    if (earFill(rim, tris) && tryFill(gone, thin, fan, rim, ordered, tris, false)) return true;
+    if (earFill(rim, tris) && tryFill(r, thin, tris, false)) return true;
     if (gone.size() != 1) return false;
     // A vertex where the surface turns (the sheet's face and its side wall): no one plane holds
     // its hole. Its edge to a rim vertex is collapsed instead (the hole filled by a fan from that
@@ -265,9 +286,8 @@ class Unfolder {
         const D3 a = p(rim[j]), b = p(rim[i]), d = p(rim[i1]);
         const D3 m = glm::cross(b - a, d - a);
         const double l = glm::length(m), s = shapeOf(a, b, d);
-        const D3 replaced = normal(ordered[i].t);
-        const long u = across(ordered[i].t, ordered[i].a, ordered[i].b);
-        const bool faces = glm::dot(m, replaced) >= kPlaneCos * l ||
+        const long u = r.across[i];
+        const bool faces = glm::dot(m, normal(ordered[i].t)) >= kPlaneCos * l ||
                            (u >= 0 && glm::dot(m, normal(static_cast<std::uint32_t>(u))) >= kPlaneCos * l);
         ok = l > 0.0 && s >= kWorstShape && faces;
         worst = std::min(worst, s);
@@ -279,7 +299,7 @@ class Unfolder {
       tris.clear();
       for (size_t i = 0; i < k; ++i)
         if (i != j && (i + 1) % k != j) tris.push_back({rim[j], rim[i], rim[(i + 1) % k]});
-      if (tryFill(gone, thin, fan, rim, ordered, tris, true)) return true;
+      if (tryFill(r, thin, tris, true)) return true;
     }
     return false;
   }
@@ -358,14 +378,14 @@ class Unfolder {
     return true;
   }
 
-  // Puts `tris` in the place of the region `fan` (around `gone`, of rim `rim`) when no new edge
+  // Puts `tris` in the place of the region's triangles when no new edge
   // exists elsewhere already, each removed vertex lies within maxError of the surface after (and
   // a collapse's triangles within it of the surface before), and the region has fewer folds after
   // (`thin`: no more, and its worst triangle better); else leaves the mesh as it was.
-  bool tryFill(const std::vector<unsigned int>& gone, bool thin, const std::vector<std::uint32_t>& fan,
-               const std::vector<unsigned int>& rim, const std::vector<Step>& ordered,
-               const std::vector<std::array<unsigned int, 3>>& tris, bool collapse) {
-    const size_t k = rim.size(), region = fan.size();
+  bool tryFill(const Region& r, bool thin, const std::vector<std::array<unsigned int, 3>>& tris, bool collapse) {
+    const std::vector<unsigned int>& rim = r.rim;
+    const std::vector<std::uint32_t>& fan = r.fan;
+    const size_t k = rim.size();
     double worstNew = 1.0;
     for (const auto& t : tris) worstNew = std::min(worstNew, shapeOf(p(t[0]), p(t[1]), p(t[2])));
     // A new edge inside the hole must not be an edge of a triangle outside the fan already.
@@ -380,33 +400,27 @@ class Unfolder {
               (ix_[3 * u] == b || ix_[3 * u + 1] == b || ix_[3 * u + 2] == b))
             return false;
       }
-    // Each vertex within maxError of the surface after: the new triangles or the ones around the
-    // hole (a folding vertex often lies beyond its own rim, over a neighbour).
-    std::vector<std::array<unsigned int, 3>> around = tris;
-    for (const Step& st : ordered)
-      if (const long u = across(st.t, st.a, st.b); u >= 0) {
-        const size_t q = 3 * static_cast<size_t>(u);
-        around.push_back({ix_[q], ix_[q + 1], ix_[q + 2]});
-      }
-    auto distance = [&](const D3& q, const std::vector<std::array<unsigned int, 3>>& surface) {
+    // q's distance to the nearest triangle of `inside` and of the triangles around the hole.
+    using Tris = std::vector<std::array<unsigned int, 3>>;
+    auto distance = [&](const D3& q, const Tris& inside) {
       double dmin = std::numeric_limits<double>::infinity();
-      for (const auto& t : surface) dmin = std::min(dmin, glm::length(closestOnTriangle(q, p(t[0]), p(t[1]), p(t[2])) - q));
+      for (const Tris* surface : {&inside, &r.outside})
+        for (const auto& t : *surface) dmin = std::min(dmin, glm::length(closestOnTriangle(q, p(t[0]), p(t[1]), p(t[2])) - q));
       return dmin;
     };
-    for (unsigned int v : gone)
-      if (distance(p(v), around) > maxError_) return false;
+    // Each vertex within maxError of the surface after: the new triangles or the ones around the
+    // hole (a folding vertex often lies beyond its own rim, over a neighbour).
+    for (unsigned int v : r.gone)
+      if (distance(p(v), tris) > maxError_) return false;
     // A collapse's triangles, too, within maxError of the surface before (the region and the
     // triangles around it), at their centres and their edges' midpoints: across a turn of the
     // surface they could cut its corner while the vertex lies near a neighbour.
-    if (collapse) {
-      std::vector<std::array<unsigned int, 3>> surface(around.begin() + static_cast<std::ptrdiff_t>(tris.size()), around.end());
-      for (std::uint32_t t : fan) surface.push_back({ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
+    if (collapse)
       for (const auto& t : tris) {
         const D3 a = p(t[0]), b = p(t[1]), d = p(t[2]);
         for (const D3& q : {(a + b + d) * (1.0 / 3.0), 0.5 * (a + b), 0.5 * (b + d), 0.5 * (d + a)})
-          if (distance(q, surface) > maxError_) return false;
+          if (distance(q, r.old) > maxError_) return false;
       }
-    }
     // Fewer folds along the hole's edges after than along the fan's before (each counted from
     // both sides inside, once on the rim).
     auto folds = [&](size_t count) {
@@ -415,15 +429,13 @@ class Unfolder {
         for (int e = 0; e < 3; ++e) f += foldAt(fan[i], e);
       return f;
     };
-    const long before = folds(region);
+    const long before = folds(fan.size());
     double worstOld = 1.0;
-    for (std::uint32_t t : fan) worstOld = std::min(worstOld, shapeOf(p(ix_[3 * t]), p(ix_[3 * t + 1]), p(ix_[3 * t + 2])));
-    std::vector<std::array<unsigned int, 3>> old;
-    for (std::uint32_t t : fan) old.push_back({ix_[3 * t], ix_[3 * t + 1], ix_[3 * t + 2]});
-    put(gone, rim, fan, tris);
+    for (const auto& t : r.old) worstOld = std::min(worstOld, shapeOf(p(t[0]), p(t[1]), p(t[2])));
+    put(r.gone, rim, fan, tris);
     const long after = folds(tris.size());
     if (thin ? after <= before && worstNew > worstOld : after < before) return true;
-    put(gone, rim, fan, old);
+    put(r.gone, rim, fan, r.old);
     return false;
   }
 
