@@ -221,7 +221,7 @@ namespace {
 
 // A piece of the mesh simplified alone, its border locked; kept only when it is still a manifold
 // patch with the same border (each inner edge used once each way, no degenerate triangle).
-bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::vector<std::array<std::uint32_t, 3>>& tris,
+bool simplifyOnce(const std::vector<std::array<float, 3>>& allVertices, std::vector<std::array<std::uint32_t, 3>>& tris,
                    double maxError) {
   std::unordered_map<std::uint32_t, std::uint32_t> local;
   std::vector<std::uint32_t> global;
@@ -287,14 +287,107 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
   return false;
 }
 
+
+using Tri = std::array<std::uint32_t, 3>;
+
+// How many times a patch's simplification is tried again with more kept fine around its folds
+// (on the attract pieces every patch that can lose its folds has lost them by the sixth).
+constexpr int kFoldRounds = 6;
+
+// Directed edges of the triangles, (u << 32 | v), sorted.
+std::vector<std::uint64_t> sortedEdges(const std::vector<Tri>& a, const std::vector<Tri>& b) {
+  std::vector<std::uint64_t> e;
+  e.reserve(3 * (a.size() + b.size()));
+  for (const auto* set : {&a, &b})
+    for (const Tri& t : *set)
+      for (int k = 0; k < 3; ++k) e.push_back((static_cast<std::uint64_t>(t[k]) << 32) | t[(k + 1) % 3]);
+  std::sort(e.begin(), e.end());
+  return e;
+}
+
+// The folds of `own`, among themselves and against `context`: pairs of triangles across an edge
+// whose normals are more than 120 degrees apart (the fold pass's measure), each as the four
+// vertices of its two triangles (the shared edge's first).
+std::vector<std::array<std::uint32_t, 4>> foldsIn(const std::vector<std::array<float, 3>>& v, const std::vector<Tri>& own,
+                                                 const std::vector<Tri>& context) {
+  std::vector<Tri> tris = own;
+  tris.insert(tris.end(), context.begin(), context.end());
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> e;
+  e.reserve(3 * tris.size());
+  for (size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      e.push_back({(static_cast<std::uint64_t>(tris[t][k]) << 32) | tris[t][(k + 1) % 3], static_cast<std::uint32_t>(t)});
+  std::sort(e.begin(), e.end());
+  std::vector<std::array<std::uint32_t, 4>> folds;
+  for (const auto& [key, t] : e) {
+    const std::uint64_t rev = (key << 32) | (key >> 32);
+    if (rev < key) continue;  // each pair once
+    auto it = std::lower_bound(e.begin(), e.end(), std::make_pair(rev, std::uint32_t{0}));
+    if (it == e.end() || it->first != rev) continue;
+    if (t >= own.size() && it->second >= own.size()) continue;  // both in the context
+    const Tri &a = tris[t], &b = tris[it->second];
+    float na[3], nb[3];
+    const float la = crossLength2(v[a[0]].data(), v[a[1]].data(), v[a[2]].data(), na);
+    const float lb = crossLength2(v[b[0]].data(), v[b[1]].data(), v[b[2]].data(), nb);
+    const float d = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
+    if (la > 0.0f && lb > 0.0f && d < -0.5f * std::sqrt(la) * std::sqrt(lb)) {
+      std::uint32_t apexB = b[0];
+      for (std::uint32_t x : b)
+        if (x != a[0] && x != a[1] && x != a[2]) apexB = x;
+      folds.push_back({a[0], a[1], a[2], apexB});
+    }
+  }
+  return folds;
+}
+
+// simplifyOnce(), then, where the simplified patch folds (against itself or against the ring
+// around it, which stays as it is), the fine triangles around each fold's four vertices are kept
+// as they are and the rest is simplified again, their rim locked as the border is; the kept set
+// grows around the folds left, up to kFoldRounds times, and the attempt with the fewest folds is
+// kept. (meshoptimizer 0.18 cannot lock single vertices; a patch is cut instead.) A patch that
+// still folds fails, and goes round again in a smaller tile: a fold the simplifier made is cheaper
+// to keep out than to take out after, where the fold pass often cannot (the sheet's rim).
+bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::vector<Tri>& tris, const std::vector<Tri>& ring,
+                   double maxError) {
+  std::vector<Tri> result = tris;
+  if (!simplifyOnce(allVertices, result, maxError)) return false;
+  auto folds = foldsIn(allVertices, result, ring);
+  size_t fewest = folds.size();
+  std::vector<Tri> pinned, rest = tris;
+  for (int round = 0; round < kFoldRounds && fewest > 0; ++round) {
+    std::unordered_set<std::uint32_t> at;
+    for (const auto& f : folds) at.insert(f.begin(), f.end());
+    size_t m = 0;
+    for (const Tri& t : rest) {
+      if (at.count(t[0]) || at.count(t[1]) || at.count(t[2])) pinned.push_back(t);
+      else rest[m++] = t;
+    }
+    rest.resize(m);
+    std::vector<Tri> next = rest;
+    if (!rest.empty() && !simplifyOnce(allVertices, next, maxError)) break;
+    // The simplified rest and the pinned triangles must not make the same edge twice.
+    const auto edges = sortedEdges(next, pinned);
+    if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) break;
+    next.insert(next.end(), pinned.begin(), pinned.end());
+    folds = foldsIn(allVertices, next, ring);
+    if (folds.size() < fewest) result = std::move(next), fewest = folds.size();
+  }
+  if (fewest > 0) return false;
+  tris = std::move(result);
+  return true;
+}
+
 }  // namespace
 
 // Decimates tile by tile (squares in the plate's plane, each triangle in the tile of its
 // centroid), in parallel. In each tile the triangles touching a vertex that another tile uses, or
 // that an earlier round settled, stay as they are (a ring along the tile's edge); the rest is
 // simplified with its border locked, so no new edge ends at a shared vertex and tiles cannot
-// disagree. A tile whose result fails the patch check, and the rings, go round again in tiles half
-// the size. Returns the number of tiles that failed in the last round.
+// disagree. A tile whose result fails the patch check or still folds (simplifyPatch()), and the
+// rings, go round again in tiles half the size. A ring triangle along a simplified patch touches a
+// settled vertex in every later round, so it stays fine to the end: the folds a patch is checked
+// for against its ring are the only ones a simplified triangle can make. Returns the number of
+// tiles that failed in the last round.
 size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& pool) {
   std::vector<std::array<std::uint32_t, 3>> todo = std::move(mesh.triangles), done;
   std::vector<std::uint8_t> settled(mesh.vertices.size(), 0);
@@ -327,20 +420,23 @@ size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& po
           if (owner[v] == UINT32_MAX) owner[v] = static_cast<std::uint32_t>(k);
           else if (owner[v] != k) shared[v] = 1;
         }
-    for (auto& tris : tiles) {
+    std::vector<std::vector<std::array<std::uint32_t, 3>>> rings(tiles.size());
+    for (size_t k = 0; k < tiles.size(); ++k) {
+      auto& tris = tiles[k];
       size_t n = 0;
       for (const auto& t : tris) {
-        if (shared[t[0]] || shared[t[1]] || shared[t[2]]) todo.push_back(t);  // the ring: next round
+        if (shared[t[0]] || shared[t[1]] || shared[t[2]]) rings[k].push_back(t);  // the ring: next round
         else tris[n++] = t;
       }
       tris.resize(n);
+      todo.insert(todo.end(), rings[k].begin(), rings[k].end());
     }
     std::vector<std::uint8_t> ok(tiles.size(), 0);
     pool.parallelFor2D(Rect{0, 0, tx, ty}, 1, [&](const Rect& r) {
       for (int j = r.y; j < r.y + r.h; ++j)
         for (int i = r.x; i < r.x + r.w; ++i) {
           const size_t k = static_cast<size_t>(j) * tx + i;
-          if (!tiles[k].empty()) ok[k] = simplifyPatch(mesh.vertices, tiles[k], maxError);
+          if (!tiles[k].empty()) ok[k] = simplifyPatch(mesh.vertices, tiles[k], rings[k], maxError);
         }
     });
     failed = 0;
