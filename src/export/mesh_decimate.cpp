@@ -290,9 +290,13 @@ bool simplifyOnce(const std::vector<std::array<float, 3>>& allVertices, std::vec
 
 using Tri = std::array<std::uint32_t, 3>;
 
-// How many times a patch's simplification is tried again with more kept fine around its folds
-// (on the attract pieces every patch that can lose its folds has lost them by the sixth).
-constexpr int kFoldRounds = 6;
+// A thin triangle: |cross| under 1/1000 of its longest edge squared (its height under 1/1000 of
+// that edge), as the thin-triangle pass after the decimation counts them (mesh_unfold.cpp).
+constexpr float kThinCross2 = 1e-6f;
+
+// How many times a patch's simplification is tried again with more kept fine around its flaws
+// (ten attempts give the attract pieces the same meshes as six).
+constexpr int kFlawRounds = 6;
 
 // Directed edges of the triangles, (u << 32 | v), sorted.
 std::vector<std::uint64_t> sortedEdges(const std::vector<Tri>& a, const std::vector<Tri>& b) {
@@ -305,10 +309,11 @@ std::vector<std::uint64_t> sortedEdges(const std::vector<Tri>& a, const std::vec
   return e;
 }
 
-// The folds of `own`, among themselves and against `context`: pairs of triangles across an edge
-// whose normals are more than 120 degrees apart (the fold pass's measure), each as the four
-// vertices of its two triangles (the shared edge's first).
-std::vector<std::array<std::uint32_t, 4>> foldsIn(const std::vector<std::array<float, 3>>& v, const std::vector<Tri>& own,
+// The flaws of `own`: its folds, among its triangles and against `context` (pairs of triangles
+// across an edge whose normals are more than 120 degrees apart, the fold pass's measure), each as
+// the four vertices of its two triangles; and its thin triangles (height under 1/1000 of the
+// longest edge, the thin-triangle pass's measure), each as its three vertices and the third again.
+std::vector<std::array<std::uint32_t, 4>> flawsIn(const std::vector<std::array<float, 3>>& v, const std::vector<Tri>& own,
                                                  const std::vector<Tri>& context) {
   std::vector<Tri> tris = own;
   tris.insert(tris.end(), context.begin(), context.end());
@@ -318,7 +323,7 @@ std::vector<std::array<std::uint32_t, 4>> foldsIn(const std::vector<std::array<f
     for (int k = 0; k < 3; ++k)
       e.push_back({(static_cast<std::uint64_t>(tris[t][k]) << 32) | tris[t][(k + 1) % 3], static_cast<std::uint32_t>(t)});
   std::sort(e.begin(), e.end());
-  std::vector<std::array<std::uint32_t, 4>> folds;
+  std::vector<std::array<std::uint32_t, 4>> flaws;
   for (const auto& [key, t] : e) {
     const std::uint64_t rev = (key << 32) | (key >> 32);
     if (rev < key) continue;  // each pair once
@@ -334,29 +339,35 @@ std::vector<std::array<std::uint32_t, 4>> foldsIn(const std::vector<std::array<f
       std::uint32_t apexB = b[0];
       for (std::uint32_t x : b)
         if (x != a[0] && x != a[1] && x != a[2]) apexB = x;
-      folds.push_back({a[0], a[1], a[2], apexB});
+      flaws.push_back({a[0], a[1], a[2], apexB});
     }
   }
-  return folds;
+  for (const Tri& t : own) {
+    float c2, l2;
+    crossAndLongest2(v[t[0]].data(), v[t[1]].data(), v[t[2]].data(), c2, l2);
+    if (c2 < kThinCross2 * l2 * l2) flaws.push_back({t[0], t[1], t[2], t[2]});
+  }
+  return flaws;
 }
 
 // simplifyOnce(), then, where the simplified patch folds (against itself or against the ring
-// around it, which stays as it is), the fine triangles around each fold's four vertices are kept
-// as they are and the rest is simplified again, their rim locked as the border is; the kept set
-// grows around the folds left, up to kFoldRounds times, and the attempt with the fewest folds is
-// kept. (meshoptimizer 0.18 cannot lock single vertices; a patch is cut instead.) A patch that
-// still folds fails, and goes round again in a smaller tile: a fold the simplifier made is cheaper
-// to keep out than to take out after, where the fold pass often cannot (the sheet's rim).
+// around it, which stays as it is) or has a thin triangle, the fine triangles around each flaw's
+// vertices are kept as they are and the rest is simplified again, their rim locked as the border
+// is; the kept set grows around the flaws left, up to kFlawRounds times, and the attempt with the
+// fewest is kept. (meshoptimizer 0.18 cannot lock single vertices; a patch is cut instead.) A
+// patch that still has one fails, and goes round again in a smaller tile: a flaw the simplifier
+// made is cheaper to keep out than to take out after, where the passes after often cannot (a fold
+// on the sheet's rim).
 bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::vector<Tri>& tris, const std::vector<Tri>& ring,
                    double maxError) {
   std::vector<Tri> result = tris;
   if (!simplifyOnce(allVertices, result, maxError)) return false;
-  auto folds = foldsIn(allVertices, result, ring);
-  size_t fewest = folds.size();
+  auto flaws = flawsIn(allVertices, result, ring);
+  size_t fewest = flaws.size();
   std::vector<Tri> pinned, rest = tris;
-  for (int round = 0; round < kFoldRounds && fewest > 0; ++round) {
+  for (int round = 0; round < kFlawRounds && fewest > 0; ++round) {
     std::unordered_set<std::uint32_t> at;
-    for (const auto& f : folds) at.insert(f.begin(), f.end());
+    for (const auto& f : flaws) at.insert(f.begin(), f.end());
     size_t m = 0;
     for (const Tri& t : rest) {
       if (at.count(t[0]) || at.count(t[1]) || at.count(t[2])) pinned.push_back(t);
@@ -369,8 +380,8 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
     const auto edges = sortedEdges(next, pinned);
     if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) break;
     next.insert(next.end(), pinned.begin(), pinned.end());
-    folds = foldsIn(allVertices, next, ring);
-    if (folds.size() < fewest) result = std::move(next), fewest = folds.size();
+    flaws = flawsIn(allVertices, next, ring);
+    if (flaws.size() < fewest) result = std::move(next), fewest = flaws.size();
   }
   if (fewest > 0) return false;
   tris = std::move(result);
@@ -383,11 +394,11 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
 // centroid), in parallel. In each tile the triangles touching a vertex that another tile uses, or
 // that an earlier round settled, stay as they are (a ring along the tile's edge); the rest is
 // simplified with its border locked, so no new edge ends at a shared vertex and tiles cannot
-// disagree. A tile whose result fails the patch check or still folds (simplifyPatch()), and the
-// rings, go round again in tiles half the size. A ring triangle along a simplified patch touches a
-// settled vertex in every later round, so it stays fine to the end: the folds a patch is checked
-// for against its ring are the only ones a simplified triangle can make. Returns the number of
-// tiles that failed in the last round.
+// disagree. A tile whose result fails the patch check or still folds or has a thin triangle
+// (simplifyPatch()), and the rings, go round again in tiles half the size. A ring triangle along a
+// simplified patch touches a settled vertex in every later round, so it stays fine to the end: the
+// folds a patch is checked for against its ring are the only ones a simplified triangle can make.
+// Returns the number of tiles that failed in the last round.
 size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& pool) {
   std::vector<std::array<std::uint32_t, 3>> todo = std::move(mesh.triangles), done;
   std::vector<std::uint8_t> settled(mesh.vertices.size(), 0);

@@ -73,19 +73,11 @@ Result<TriangleMesh> decimatedPlate(MeshStats& st) {
   return mesh;
 }
 
-// Thin triangles left by the simplification: a triangle whose height is under 1/1000 of its longest
-// edge has a normal made of float noise, and a smooth-shading reader weights it by its near-straight
-// angle (a dark blotch on a flat face). They are flipped away where that makes better triangles in
-// the same face, and never across an edge of the sheet (the volume stays); then a vertex of each
-// one left is taken out where its hole fills with better triangles, or else its edge collapsed. On
-// the test plate: 2 008 before either, 51 after the flips, 22 after both without collapses, 9 with.
-TEST(MeshExport, DecimationLeavesFewThinTriangles) {
-  MeshStats st;
-  auto mesh = decimatedPlate(st);
-  ASSERT_TRUE(mesh.ok()) << mesh.error();
+// Triangles whose height is under 1/1000 of their longest edge.
+size_t thinTriangles(const TriangleMesh& mesh) {
   size_t thin = 0;
-  for (const auto& t : mesh->triangles) {
-    const auto &a = mesh->vertices[t[0]], &b = mesh->vertices[t[1]], &c = mesh->vertices[t[2]];
+  for (const auto& t : mesh.triangles) {
+    const auto &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
     const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
     const double w[3] = {double(c[0]) - b[0], double(c[1]) - b[1], double(c[2]) - b[2]};
@@ -94,8 +86,22 @@ TEST(MeshExport, DecimationLeavesFewThinTriangles) {
                                 w[0] * w[0] + w[1] * w[1] + w[2] * w[2]});
     thin += std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) < 1e-3 * l2;
   }
+  return thin;
+}
+
+// Thin triangles left by the simplification: a triangle whose height is under 1/1000 of its longest
+// edge has a normal made of float noise, and a smooth-shading reader weights it by its near-straight
+// angle (a dark blotch on a flat face). The decimation keeps them out (TheSimplifierMakesNoFolds...,
+// below); the passes after it (flips in the same face, a vertex taken out) are left for the fine
+// mesh's own. On the test plate: 2 008 before any of these, 51 after the flips, 22 after the vertex
+// removals without collapses, 9 with them, none now.
+TEST(MeshExport, DecimationLeavesNoThinTriangles) {
+  MeshStats st;
+  auto mesh = decimatedPlate(st);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  const size_t thin = thinTriangles(*mesh);
   std::printf("%zu triangles, %zu under 1/1000\n", mesh->triangles.size(), thin);
-  EXPECT_LT(thin, mesh->triangles.size() / 20000);
+  EXPECT_EQ(thin, 0u);
   EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
 }
 
@@ -140,26 +146,29 @@ TEST(MeshExport, DecimationLeavesNoFolds) {
   EXPECT_EQ(st.vertices, mesh->vertices.size()) << "the vertices taken out are dropped";
 }
 
-// The simplifier itself is kept from folding: a tile whose simplified patch folds (against itself
-// or the ring of fine triangles around it) is simplified again with the fine triangles around the
-// folds' vertices kept, and fails (a smaller tile next) while it still folds. The test plate's
-// fine mesh, decimated as the mesher does, before any fold pass: 0 fold edges (25 without), for
-// 0.3 % more triangles.
-TEST(MeshExport, TheSimplifierMakesNoFolds) {
+// The simplifier itself is kept from folding and from thin triangles: a tile whose simplified
+// patch folds (against itself or the ring of fine triangles around it) or has a triangle under
+// 1/1000 is simplified again with the fine triangles around those kept, and fails (a smaller tile
+// next) while it still has one. The test plate's fine mesh, decimated as the mesher does, before
+// any pass after it: no fold and no thin triangle (without: 25 fold edges and 266 thin
+// triangles), for 2 % more triangles.
+TEST(MeshExport, TheSimplifierMakesNoFoldsOrThinTriangles) {
   MeshOptions o;
   o.threads = 2;
   o.cell = 0.15;
   o.maxError = 0.0;  // the fine mesh
   auto mesh = meshModel(modelOf(kPlate), o);
   ASSERT_TRUE(mesh.ok()) << mesh.error();
-  const size_t fine = mesh->triangles.size(), fineFolds = foldEdges(*mesh);
+  const size_t fine = mesh->triangles.size(), fineFolds = foldEdges(*mesh), fineThin = thinTriangles(*mesh);
   ThreadPool pool(2);
   mesh_detail::decimate(*mesh, 0.01, 48.0 * 0.15, pool);
   EXPECT_EQ(checkClosedManifold(*mesh), "");
-  const size_t folds = foldEdges(*mesh);
-  std::printf("%zu -> %zu triangles, fold edges %zu -> %zu\n", fine, mesh->triangles.size(), fineFolds, folds);
+  const size_t folds = foldEdges(*mesh), thin = thinTriangles(*mesh);
+  std::printf("%zu -> %zu triangles, fold edges %zu -> %zu, thin %zu -> %zu\n", fine, mesh->triangles.size(), fineFolds,
+              folds, fineThin, thin);
   EXPECT_LT(mesh->triangles.size(), fine / 3) << "flat parts are decimated";
   EXPECT_LE(folds, fineFolds);
+  EXPECT_LE(thin, fineThin);
   EXPECT_NEAR(meshVolume(*mesh), 1200.0, 1200.0 * 0.005);
 }
 
