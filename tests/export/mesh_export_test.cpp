@@ -89,22 +89,6 @@ size_t thinTriangles(const TriangleMesh& mesh) {
   return thin;
 }
 
-// Thin triangles left by the simplification: a triangle whose height is under 1/1000 of its longest
-// edge has a normal made of float noise, and a smooth-shading reader weights it by its near-straight
-// angle (a dark blotch on a flat face). The decimation keeps them out (TheSimplifierMakesNoFolds...,
-// below); the passes after it (flips in the same face, a vertex taken out) are left for the fine
-// mesh's own. On the test plate: 2 008 before any of these, 51 after the flips, 22 after the vertex
-// removals without collapses, 9 with them, none now.
-TEST(MeshExport, DecimationLeavesNoThinTriangles) {
-  MeshStats st;
-  auto mesh = decimatedPlate(st);
-  ASSERT_TRUE(mesh.ok()) << mesh.error();
-  const size_t thin = thinTriangles(*mesh);
-  std::printf("%zu triangles, %zu under 1/1000\n", mesh->triangles.size(), thin);
-  EXPECT_EQ(thin, 0u);
-  EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
-}
-
 // Edges whose two triangles face more than 120 degrees apart: the surface folded over itself.
 size_t foldEdges(const TriangleMesh& mesh) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, size_t> edge;
@@ -129,19 +113,24 @@ size_t foldEdges(const TriangleMesh& mesh) {
   return folds;
 }
 
-// The simplifier's collapses fold the surface over itself here and there (a triangle turned
-// upside down among its neighbours). The decimation keeps them out (TheSimplifierMakesNoFolds,
-// below); what a fold pass after it would still find (the fine mesh's own, the mending's), the
-// mesher takes out by removing the folding vertex and filling its hole again (the tests on grids
-// below). The test plate had 35 fold edges before either, 3 with the fold pass alone, and none
-// now; and keeps its volume.
-TEST(MeshExport, DecimationLeavesNoFolds) {
+// What the decimation must not leave. A fold: the simplifier's collapses fold the surface over
+// itself here and there (a triangle turned upside down among its neighbours). A thin triangle
+// (height under 1/1000 of its longest edge): its normal is float noise, and a smooth-shading reader
+// weights it by its near-straight angle (a dark blotch on a flat face). The decimation keeps both
+// out (TheSimplifierMakesNoFoldsOrThinTriangles, below); what the passes after it would still find
+// (the fine mesh's own), the mesher takes out by flips in the same face and by removing a vertex
+// and filling its hole again (the tests on grids below). On the test plate: 35 fold edges and 2 008
+// thin triangles before any of these; with the passes after alone, 3 and 9; none now. The sheet
+// keeps its volume.
+TEST(MeshExport, DecimationLeavesNoFoldsOrThinTriangles) {
   MeshStats st;
   auto mesh = decimatedPlate(st);
   ASSERT_TRUE(mesh.ok()) << mesh.error();
-  const size_t folds = foldEdges(*mesh);
-  std::printf("%zu triangles, %zu fold edges, %zu vertices taken out\n", mesh->triangles.size(), folds, st.foldVertices);
+  const size_t folds = foldEdges(*mesh), thin = thinTriangles(*mesh);
+  std::printf("%zu triangles, %zu fold edges, %zu under 1/1000, %zu + %zu vertices taken out\n", mesh->triangles.size(),
+              folds, thin, st.foldVertices, st.thinVertices);
   EXPECT_EQ(folds, 0u);
+  EXPECT_EQ(thin, 0u);
   EXPECT_NEAR(st.volume, 1200.0, 1200.0 * 0.005);
   EXPECT_EQ(st.vertices, mesh->vertices.size()) << "the vertices taken out are dropped";
 }
