@@ -287,12 +287,7 @@ bool simplifyOnce(const std::vector<std::array<float, 3>>& allVertices, std::vec
   return false;
 }
 
-
 using Tri = std::array<std::uint32_t, 3>;
-
-// A thin triangle: |cross| under 1/1000 of its longest edge squared (its height under 1/1000 of
-// that edge), as the thin-triangle pass after the decimation counts them (mesh_unfold.cpp).
-constexpr float kThinCross2 = 1e-6f;
 
 // How many times a patch's simplification is tried again with more kept fine around its flaws
 // (ten give the rosette the same mesh as six, a pile of 400 strokes 0.2 % fewer triangles).
@@ -309,10 +304,6 @@ std::vector<std::uint64_t> sortedEdges(const std::vector<Tri>& a, const std::vec
   return e;
 }
 
-// The flaws of `own`: its folds, among its triangles and against `context` (pairs of triangles
-// across an edge whose normals are more than 120 degrees apart, the fold pass's measure), each as
-// the four vertices of its two triangles; and its thin triangles (height under 1/1000 of the
-// longest edge, the thin-triangle pass's measure), each as its three vertices and the third again.
 // A triangle's key whatever corner it starts at (the smallest first, the turn kept).
 struct TriKey {
   Tri t;
@@ -329,15 +320,20 @@ struct TriKeyHash {
 };
 using FineSet = std::unordered_set<TriKey, TriKeyHash>;
 
+// The flaws of `own` that `fine` does not hold both triangles of: its folds (kFoldCos), among its
+// triangles and against `context`, each as the four vertices of its two triangles; and its thin
+// triangles (kThin), each as its three vertices and the third again. The same measures as the
+// passes after the decimation (mesh_unfold.cpp).
 std::vector<std::array<std::uint32_t, 4>> flawsIn(const std::vector<std::array<float, 3>>& v, const std::vector<Tri>& own,
                                                  const std::vector<Tri>& context, const FineSet& fine) {
-  std::vector<Tri> tris = own;
-  tris.insert(tris.end(), context.begin(), context.end());
+  // Triangle i of own, then of context.
+  auto tri = [&](size_t i) -> const Tri& { return i < own.size() ? own[i] : context[i - own.size()]; };
+  const size_t count = own.size() + context.size();
   std::vector<std::pair<std::uint64_t, std::uint32_t>> e;
-  e.reserve(3 * tris.size());
-  for (size_t t = 0; t < tris.size(); ++t)
+  e.reserve(3 * count);
+  for (size_t t = 0; t < count; ++t)
     for (int k = 0; k < 3; ++k)
-      e.push_back({(static_cast<std::uint64_t>(tris[t][k]) << 32) | tris[t][(k + 1) % 3], static_cast<std::uint32_t>(t)});
+      e.push_back({(static_cast<std::uint64_t>(tri(t)[k]) << 32) | tri(t)[(k + 1) % 3], static_cast<std::uint32_t>(t)});
   std::sort(e.begin(), e.end());
   std::vector<std::array<std::uint32_t, 4>> flaws;
   for (const auto& [key, t] : e) {
@@ -346,24 +342,22 @@ std::vector<std::array<std::uint32_t, 4>> flawsIn(const std::vector<std::array<f
     auto it = std::lower_bound(e.begin(), e.end(), std::make_pair(rev, std::uint32_t{0}));
     if (it == e.end() || it->first != rev) continue;
     if (t >= own.size() && it->second >= own.size()) continue;  // both in the context
-    const Tri &a = tris[t], &b = tris[it->second];
+    const Tri &a = tri(t), &b = tri(it->second);
     if (fine.count(TriKey(a)) && fine.count(TriKey(b))) continue;  // the fine mesh's own
     float na[3], nb[3];
     const float la = crossLength2(v[a[0]].data(), v[a[1]].data(), v[a[2]].data(), na);
     const float lb = crossLength2(v[b[0]].data(), v[b[1]].data(), v[b[2]].data(), nb);
     const float d = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
-    if (la > 0.0f && lb > 0.0f && d < -0.5f * std::sqrt(la) * std::sqrt(lb)) {
+    if (la > 0.0f && lb > 0.0f && d < static_cast<float>(kFoldCos) * std::sqrt(la) * std::sqrt(lb)) {
       std::uint32_t apexB = b[0];
       for (std::uint32_t x : b)
         if (x != a[0] && x != a[1] && x != a[2]) apexB = x;
       flaws.push_back({a[0], a[1], a[2], apexB});
     }
   }
-  for (const Tri& t : own) {
-    float c2, l2;
-    crossAndLongest2(v[t[0]].data(), v[t[1]].data(), v[t[2]].data(), c2, l2);
-    if (c2 < kThinCross2 * l2 * l2 && !fine.count(TriKey(t))) flaws.push_back({t[0], t[1], t[2], t[2]});
-  }
+  for (const Tri& t : own)
+    if (shape(v[t[0]].data(), v[t[1]].data(), v[t[2]].data()) < static_cast<float>(kThin) && !fine.count(TriKey(t)))
+      flaws.push_back({t[0], t[1], t[2], t[2]});
   return flaws;
 }
 

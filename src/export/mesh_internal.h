@@ -33,14 +33,19 @@ bool sliver(const float* a, const float* b, const float* c, float k = kSliver);
 // indices (3 a triangle) with its neighbour's, where that makes two proper triangles facing the
 // neighbour's way and the worse of the two is better than the worse before.
 void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vector<float>& pos);
-// Removes the vertices of folds (two triangles across an edge more than 120 degrees apart: the
-// simplifier's collapses leave a few, the surface folded over itself) among the first n indices,
-// each (or, where no one vertex will do, the two ends of an edge) by triangulating the hole again
-// (ear clipping in the plane of its rim, or where no plane holds it, a single vertex's edge
-// collapsed onto its rim) where that makes good triangles, takes fewer folds and moves the
-// surface at the vertex by at most maxError; then, the same way, a vertex of each triangle still thinner than 1/1000 (height
-// to longest edge) where the hole's worst triangle is better and it folds no more. n becomes the
-// new count.
+// A fold: two triangles across an edge whose normals are more than 120 degrees apart (cosine
+// under kFoldCos), the surface folded over itself.
+inline constexpr double kFoldCos = -0.5;
+// A thin triangle: its height under kThin of its longest edge (|cross| / longest edge^2); its
+// normal is float noise, a speck in a smooth-shading reader.
+inline constexpr double kThin = 1e-3;
+
+// Removes the vertices of folds (the fine mesh's own, at a sharp crease) among the first n
+// indices, each (or, where no one vertex will do, the two ends of an edge) by triangulating the
+// hole again (ear clipping in the plane of its rim, or where no plane holds it, a single vertex's
+// edge collapsed onto its rim) where that makes good triangles, takes fewer folds and moves the
+// surface at the vertex by at most maxError; then, the same way, a vertex of each thin triangle
+// left where the hole's worst triangle is better and it folds no more. n becomes the new count.
 struct VertexRemovals {
   size_t folds = 0, thin = 0;  // vertices taken out for each
 };

@@ -55,15 +55,10 @@ double shapeOf(const D3& a, const D3& b, const D3& c) {
 }
 
 constexpr unsigned int kDead = 0xffffffffu;
-// A fold: two triangles across an edge whose normals are more than 120 degrees apart.
-constexpr double kFoldCos = -0.5;
 // A vertex is removed only where each new triangle lies within 60 degrees of the hole's plane and
 // is not thin (under about 0.6 degrees).
 constexpr double kPlaneCos = 0.5;
 constexpr double kWorstShape = 0.01;
-// A thin triangle: height under 1/1000 of its longest edge (its normal is float noise: a speck in a
-// smooth-shading reader). Its vertex goes where the hole's filling is better and folds no more.
-constexpr double kThin = 1e-3;
 // Holes of more triangles than this are not triangulated again (the polygon's tests grow with the
 // square of its rim).
 constexpr size_t kMaxFan = 24;
