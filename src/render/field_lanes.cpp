@@ -7,6 +7,7 @@
 #include "hwy/highway.h"
 
 #include "render/field_lanes.h"
+#include "render/hermite-inl.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -17,19 +18,6 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 constexpr size_t kMaxLanes = 32;  // doubles in the widest vector (SVE, 2048 bits)
-
-// The cells of the lanes' points (fx, fy in cells from the lattice's origin): i = clamp(int(fx), 0,
-// nx - 2) (the conversion truncates, as the cast does) and u = fx - i, likewise j and w; and each
-// lane's first sample, j nx + i, stored for the reads lane by lane (a gather by another name).
-template <class D, class V = hn::Vec<D>>
-HWY_INLINE void Cells(D d, V fx, V fy, int nx, int ny, V& u, V& w, int32_t* first) {
-  const hn::Rebind<int32_t, D> di;
-  const auto zero = hn::Zero(di);
-  const auto i = hn::Min(hn::Max(hn::DemoteTo(di, fx), zero), hn::Set(di, nx - 2));
-  const auto j = hn::Min(hn::Max(hn::DemoteTo(di, fy), zero), hn::Set(di, ny - 2));
-  u = hn::Sub(fx, hn::PromoteTo(d, i)), w = hn::Sub(fy, hn::PromoteTo(d, j));
-  hn::StoreU(hn::Add(hn::Mul(j, hn::Set(di, nx)), i), di, first);
-}
 
 int BilinearLanes(const FloatLattice& l, const double* xs, const double* ys, int n, double* out) {
   const hn::ScalableTag<double> d;
@@ -59,34 +47,6 @@ int BilinearLanes(const FloatLattice& l, const double* xs, const double* ys, int
     hn::StoreU(hn::Add(a, hn::Mul(v, hn::Sub(b, a))), d, out + k);
   }
   return k;
-}
-
-// The bicubic Hermite basis at u, and its derivative (height_field.cpp's basis() and
-// basisDerivative(), the same operations in the same order).
-template <class V>
-HWY_INLINE void Basis(V u, V& h0, V& h1, V& g0, V& g1) {
-  const hn::DFromV<V> d;
-  const V one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
-  const V u2 = hn::Mul(u, u);
-  h0 = hn::Add(hn::Mul(hn::Sub(hn::Mul(two, u), three), u2), one);
-  h1 = hn::Mul(hn::Sub(three, hn::Mul(two, u)), u2);
-  g0 = hn::Mul(hn::Add(hn::Mul(hn::Sub(u, two), u), one), u);
-  g1 = hn::Mul(hn::Sub(u, one), u2);
-}
-template <class V>
-HWY_INLINE void BasisDerivative(V u, V& h0, V& h1, V& g0, V& g1) {
-  const hn::DFromV<V> d;
-  const V one = hn::Set(d, 1.0);
-  const V d0 = hn::Mul(hn::Mul(hn::Set(d, 6.0), u), hn::Sub(u, one));
-  h0 = d0, h1 = hn::Neg(d0);
-  g0 = hn::Add(hn::Mul(hn::Sub(hn::Mul(hn::Set(d, 3.0), u), hn::Set(d, 4.0)), u), one);
-  g1 = hn::Mul(hn::Sub(hn::Mul(hn::Set(d, 3.0), u), hn::Set(d, 2.0)), u);
-}
-
-// h0 p + h1 q + s (g0 r + g1 t): a row of the patch (valueAndGradient's rowD and rowY).
-template <class V>
-HWY_INLINE V Row(V h0, V h1, V g0, V g1, V s, V p, V q, V r, V t) {
-  return hn::Add(hn::Add(hn::Mul(h0, p), hn::Mul(h1, q)), hn::Mul(s, hn::Add(hn::Mul(g0, r), hn::Mul(g1, t))));
 }
 
 int HermiteLanes(const SampleLattice& l, const double* xs, const double* ys, int n, double* outV, double* outGx,

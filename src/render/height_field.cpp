@@ -328,7 +328,7 @@ void HeightField::valuesAndGradients(const double* x, const double* y, int n, do
     std::fill_n(v, n, 0.0), std::fill_n(gx, n, 0.0), std::fill_n(gy, n, 0.0);
     return;
   }
-  const int done = hermiteLanes(SampleLattice{x0_, y0_, s_, invS_, nx_, ny_, &samples_[0].d}, x, y, n, v, gx, gy);
+  const int done = hermiteLanes(lattice(), x, y, n, v, gx, gy);
   for (int k = done; k < n; ++k) valueAndGradient(x[k], y[k], v[k], gx[k], gy[k]);
 }
 

@@ -7,6 +7,7 @@
 
 #include "frep/box.h"
 #include "frep/operation.h"
+#include "render/field_lanes.h"
 #include "render/thread_pool.h"
 
 namespace emboss {
@@ -130,6 +131,15 @@ class HeightField {
   int cavityReachSamples() const { return cavityReach_; }
   // cavityDepth() at n points at once (SIMD lanes where whole vectors of them fill; the same bits).
   void cavityDepths(const double* x, const double* y, int n, double* out) const;
+  // The samples as the lanes read them (field_lanes.h; configured fields only).
+  SampleLattice lattice() const { return {x0_, y0_, s_, invS_, nx_, ny_, &samples_[0].d}; }
+  // The pyramid's leaves (kBlock x kBlock cells each) as bound() reads them: six floats a leaf
+  // (the bounds of D, dD/dx and dD/dy, low and high), `width` leaves a row.
+  const float* leaves(int& width) const {
+    static_assert(sizeof(Node) == 6 * sizeof(float));
+    width = levels_[0].w;
+    return &levels_[0].nodes[0].lo;
+  }
   // Bounds over a box inside domain() (callers check containsBox()).
   Bound bound(const Box2& b) const;
   // Bounds over the whole lattice.

@@ -130,6 +130,11 @@ glm::dvec3 Renderer::sample(double sx, double sy, bool field, const Rect& reach,
   return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
 }
 
+bool Renderer::missesSurely(double sx, double sy, bool field, const Rect& reach) const {
+  return sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
+         (field && !outlineMask_.empty() && outlineMaskMisses(sx, sy));
+}
+
 std::optional<Renderer::Hit> Renderer::findHit(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
                                                std::vector<std::uint32_t>& scratch, double* kept, bool reuse,
                                                bool normal) const {
@@ -143,8 +148,7 @@ std::optional<Renderer::Hit> Renderer::findHit(double sx, double sy, bool field,
     return Hit{p, normal ? fieldNormal(p, st, scratch) : glm::dvec3(0.0), ray.dir, *kept};
   }
   // Outside the projection of every surface the ray misses for certain: not even set up.
-  if (sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
-      (field && !outlineMask_.empty() && outlineMaskMisses(sx, sy))) {
+  if (missesSurely(sx, sy, field, reach)) {
     ++st.rays;
     if (kept) *kept = std::numeric_limits<double>::infinity();
     return std::nullopt;
@@ -310,10 +314,20 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
              [&](int j, const glm::dvec3& c) { centre[slots[static_cast<size_t>(j)]] = glm::vec3(c); });
     };
     batch.n = 0;
+    thread_local std::vector<std::optional<Hit>> found;
+    thread_local std::vector<double> xs, ys;
+    if (field) {
+      const auto n = static_cast<size_t>(x1 - x0);
+      found.resize(n), xs.resize(n), ys.resize(n);
+      for (int x = x0; x < x1; ++x) xs[static_cast<size_t>(x - x0)] = x + 0.5, ys[static_cast<size_t>(x - x0)] = y + 0.5;
+      findFieldHits(xs.data(), ys.data(), x1 - x0, reach, st, scratch,
+                    kept ? kept + static_cast<size_t>(y) * w + x0 : nullptr, reuse, found.data());
+    }
     for (int x = x0; x < x1; ++x) {
       const size_t i = at(x, y);
       double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;
-      const std::optional<Hit> hit = findHit(x + 0.5, y + 0.5, field, reach, st, scratch, k, reuse, !field);
+      const std::optional<Hit> hit =
+          field ? found[static_cast<size_t>(x - x0)] : findHit(x + 0.5, y + 0.5, field, reach, st, scratch, k, reuse, !field);
       if (!hit) continue;  // (a miss's normal is never read: `hits` says it missed)
       hits[i] = 1;
       if (!field) normal[i] = glm::vec3(hit->n);
@@ -360,6 +374,10 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     thread_local std::vector<EdgePixel> edges;
     thread_local ShadeBatch batch;
     thread_local std::array<int, ShadeBatch::kCapacity> slots;  // 2 e + k: edge e's sample k
+    // The field tracer's edge samples: their image points, found together (findFieldHits()).
+    thread_local std::vector<double> xs, ys;
+    thread_local std::vector<std::optional<Hit>> found;
+    xs.clear(), ys.clear();
     const auto flush = [&] {
       finish(batch, st, scratch, [](int, const glm::dvec3&) {}, [&](int j, const glm::dvec3& c) {
         const int slot = slots[static_cast<size_t>(j)];
@@ -394,12 +412,29 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       edges.push_back(EdgePixel{x, c, {}});
       for (int k = 0; k < 2; ++k) {
         const double sx = x + 0.5 + kEdgeSamples[k][0], sy = y + 0.5 + kEdgeSamples[k][1];
-        const std::optional<Hit> sh = findHit(sx, sy, field, reach, st, scratch, nullptr, false, !field);
+        if (field) {
+          xs.push_back(sx), ys.push_back(sy);
+          continue;
+        }
+        const std::optional<Hit> sh = findHit(sx, sy, field, reach, st, scratch, nullptr, false, true);
         if (!sh) {  // as sample() gives it
           edges.back().samples[k] = backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), w, h);
           continue;
         }
         slots[static_cast<size_t>(add(batch, *sh))] = 2 * e + k;
+        if (batch.full()) flush();
+      }
+    }
+    if (field && !xs.empty()) {
+      found.resize(xs.size());
+      findFieldHits(xs.data(), ys.data(), static_cast<int>(xs.size()), reach, st, scratch, nullptr, false, found.data());
+      for (size_t j = 0; j < found.size(); ++j) {
+        const std::optional<Hit>& sh = found[j];
+        if (!sh) {  // as sample() gives it
+          edges[j / 2].samples[j % 2] = backdrop(static_cast<int>(std::floor(xs[j])), static_cast<int>(std::floor(ys[j])), w, h);
+          continue;
+        }
+        slots[static_cast<size_t>(add(batch, *sh))] = static_cast<int>(j);
         if (batch.full()) flush();
       }
     }

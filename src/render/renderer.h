@@ -33,13 +33,14 @@ struct RenderStats {
   std::uint64_t edgePixels = 0;   // pixels anti-aliased with two extra rays
   std::uint64_t reshaded = 0;     // centre rays not traced again: their kept hit shaded anew
   std::uint64_t denseRays = 0;    // field-tracer rays through a tangle of set operations (kDenseSetOps)
+  std::uint64_t laneRays = 0;     // field-tracer rays whose walk went into SIMD lanes (walk_lanes.h)
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
   double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
   RenderStats& operator+=(const RenderStats& o) {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
     fieldEvaluations += o.fieldEvaluations, edgePixels += o.edgePixels, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
-    reshaded += o.reshaded, denseRays += o.denseRays;
+    reshaded += o.reshaded, denseRays += o.denseRays, laneRays += o.laneRays;
     return *this;
   }
 };
@@ -58,6 +59,10 @@ struct RenderOptions {
   // the cavity term, a patina stroke) is shaded again at the hit kept from its last trace instead
   // of traced (false: every ray traced; the same picture, slower; for comparison).
   bool reuseHits = true;
+  // Field tracer, plates and discs: a row's centre rays walk several at once in SIMD lanes where
+  // their walks are plain Lipschitz steps (walk_lanes.h) (false: every ray alone; the same
+  // picture, slower; for comparison).
+  bool walkLanes = true;
   // Field tracer: an appended raised region over more than kFieldBandMinSamples field samples
   // (the one offset that comes whole, when its contour closes, and the biggest; a stroke's live
   // preview is replaced at every pen event) is added for about this long in sync() (whole rows,
@@ -276,6 +281,14 @@ class Renderer {
   // Without `normal`, the hit's n is left zero: the caller finds it (fieldNormal()).
   std::optional<Hit> traceField(double sx, double sy, RenderStats& st, std::vector<std::uint32_t>& scratch,
                                 bool normal = true) const;
+  // traceField() in two halves: the ray's set-up (false: it misses the clip box; `rayOps` holds
+  // its set operations until its end; its start under the sheet's front face found again up to
+  // `startRefinements` times), and its walk from the state `walk` holds. The hit is the same
+  // whatever the start (the first grid point with f >= 0).
+  struct Walk;
+  bool beginWalk(double sx, double sy, RenderStats& st, std::vector<const SetOp*>& rayOps, Walk& walk,
+                 int startRefinements) const;
+  std::optional<Hit> endWalk(Walk& walk, RenderStats& st, std::vector<std::uint32_t>& scratch, bool normal) const;
   // The hit of the ray through (sx, sy), nothing where it misses. Image points outside `reach`
   // miss. `kept` (field tracer, optional): the pixel's kept hit, used when `reuse` and known, else
   // written with what the trace found. Without `fieldNormal`, a field tracer's hit comes without
@@ -283,6 +296,17 @@ class Renderer {
   std::optional<Hit> findHit(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
                              std::vector<std::uint32_t>& scratch, double* kept, bool reuse,
                              bool fieldNormal = true) const;
+  // Whether the ray through (sx, sy) misses for certain, outside `reach` (findHit()).
+  bool missesSurely(double sx, double sy, bool field, const Rect& reach) const;
+  // findHit() of the field tracer, without normals, for the rays through image points (xs[i],
+  // ys[i]) into out[i], i < count (`kept`: their kept hits, or null), their walks taken in lanes
+  // as far as they can be (walk_lanes.h): the same hits.
+  void findFieldHits(const double* xs, const double* ys, int count, const Rect& reach, RenderStats& st,
+                     std::vector<std::uint32_t>& scratch, double* kept, bool reuse, std::optional<Hit>* out) const;
+  // Whether a set-up walk can go into the lanes: after the skips it starts with (which it takes),
+  // a plain walk step (no window, no set operation's support, the slope bound known); `end` gets
+  // the point where the lane is to stop.
+  bool walkFitsLanes(Walk& walk, RenderStats& st, long& end) const;
   // The linear colour of the ray through (sx, sy) where it hits (normal gets the hit's unit
   // normal), nothing where it misses (normal gets zero): findHit() shaded.
   std::optional<glm::dvec3> shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,

@@ -225,20 +225,31 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
 
 std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderStats& st,
                                                   std::vector<std::uint32_t>& scratch, bool normal) const {
-  const Ray ray = camera_->rayAt(sx, sy);
+  thread_local std::vector<const SetOp*> rayOps;
+  Walk walk;
+  if (!beginWalk(sx, sy, st, rayOps, walk, 3)) return std::nullopt;
+  return endWalk(walk, st, scratch, normal);
+}
+
+bool Renderer::beginWalk(double sx, double sy, RenderStats& st, std::vector<const SetOp*>& rayOps, Walk& walk,
+                         int startRefinements) const {
+  walk.ray = camera_->rayAt(sx, sy);
+  const Ray& ray = walk.ray;
   ++st.rays;
   double t0, t1;
-  if (!clipRay(ray, fieldClip_, t0, t1)) return std::nullopt;
+  if (!clipRay(ray, fieldClip_, t0, t1)) return false;
   const double h = step_, h8 = h / kSubdivisions;
+  walk.h8 = h8;
   // Points of the ray are t = q h / kSubdivisions for integers q: the same points whatever the clip.
   const long q0 = kSubdivisions * floorToLong(t0 / h);
   const long q1 = kSubdivisions * ceilToLong(t1 / h);
-  auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };
+  walk.q0 = q0, walk.q1 = q1;
+  auto at = [&](long q) { return walk.at(q); };
 
-  RayContext rc;
+  walk.rc = RayContext{};
+  RayContext& rc = walk.rc;
   const glm::dvec3 pa = at(q0), pb = at(q1);
   const Box2 reach{std::min(pa.x, pb.x), std::min(pa.y, pb.y), std::max(pa.x, pb.x), std::max(pa.y, pb.y)};
-  thread_local std::vector<const SetOp*> rayOps;
   rayOps.clear();
   for (const SetOp& s : setOps_)
     if (s.support.overlaps(reach)) rayOps.push_back(&s);
@@ -292,8 +303,9 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
       auto under = [&](double hi) { return floorToLong((hi + frontThickness_ + 1e-6 - ray.origin.z) * perQ) - 1; };
       long topQ = under(rb.hi);
       // The rest of the ray, from there, reaches less of the sheet: its highest point there may be
-      // lower (a ray over flat metal beside a raised motif), a few times over.
-      for (int k = 0; k < 3 && topQ > q0 && topQ < q1; ++k) {
+      // lower (a ray over flat metal beside a raised motif), a few times over (each time a bound
+      // from the field's pyramid: worth it for a ray that walks alone, not for one in lanes).
+      for (int k = 0; k < startRefinements && topQ > q0 && topQ < q1; ++k) {
         const long next = under(field_.bound(xyBox(at(topQ), pb)).hi);
         if (next <= topQ) break;
         topQ = next;
@@ -343,6 +355,26 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   } else {
     rc.winLo[0] = q0, rc.winHi[0] = q1, rc.windows = 1;
   }
+  // The walk's state at the top of its loop, at its start.
+  walk.q = q0;
+  walk.known = false;
+  walk.fa = walk.fl = 0.0;
+  walk.prevQ = q0 - 2;
+  walk.prevF = -1.0;
+  walk.shortSteps = 0;
+  walk.failedUntil[0] = walk.failedUntil[1] = q0 - 1;
+  walk.invStepH8 = 1.0 / (kStepRate * h8), walk.invRayH8 = 1.0 / (rc.lf * h8);
+  return true;
+}
+
+std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                                               bool normal) const {
+  const Ray& ray = walk.ray;
+  const RayContext& rc = walk.rc;
+  const double h8 = walk.h8;
+  const long q0 = walk.q0, q1 = walk.q1;
+  const Box2 dom = field_.domain();
+  auto at = [&](long q) { return walk.at(q); };
 
   // f at grid point q, and the value its Lipschitz bound holds for.
   struct Val {
@@ -389,17 +421,16 @@ std::optional<Renderer::Hit> Renderer::traceField(double sx, double sy, RenderSt
   bool bracketed = false;
   constexpr long kCell = kSubdivisions;
   constexpr long kSpan = 8 * kSubdivisions;  // interval spans of 8 cells
-  long q = q0;
-  bool known = false;  // fa = f(q)
-  Val fa{0, 0};
-  long prevQ = q0 - 2;  // the last point evaluated before q, and its value
-  double prevF = -1.0;
-  int shortSteps = 0;
-  long failedUntil[2] = {q0 - 1, q0 - 1};
+  long q = walk.q;
+  bool known = walk.known;  // fa = f(q)
+  Val fa{walk.fa, walk.fl};
+  long prevQ = walk.prevQ;  // the last point evaluated before q, and its value
+  double prevF = walk.prevF;
+  int shortSteps = walk.shortSteps;
+  long* const failedUntil = walk.failedUntil;
   // Of a step's quotients (below), the two whose divisors are fixed for the ray are products with
-  // these reciprocals: a division is the slowest link of the step's chain, and a ray takes several.
-  constexpr double kStepRate = 0.9;  // the slope a step's stretch is found for (below)
-  const double invStepH8 = 1.0 / (kStepRate * h8), invRayH8 = 1.0 / (rc.lf * h8);
+  // these reciprocals (Walk): a division is the slowest link of the step's chain.
+  const double invStepH8 = walk.invStepH8, invRayH8 = walk.invRayH8;
   while (q < q1) {
     ++st.steps;
     bool cellChecked = false;  // the interval test of [q, q + kCell] ran (and failed)

@@ -42,6 +42,8 @@ inline constexpr int kDenseSetOps = 8;
 // instructions a frame, and differed in a few hundred pixels of a million).
 inline constexpr int kSubdivisions = 16;
 inline constexpr double kPruneEps = 1e-7;         // mm: a bound must clear zero by this much to skip
+// A walk step's stretch is found for a slope bound of at least this along the ray (traceField()).
+inline constexpr double kStepRate = 0.9;
 inline constexpr int kRecomputeTile = 64;         // samples per side of a field tile recomputed in parallel
 
 inline P3<Interval> boxOf(const glm::dvec3& a, const glm::dvec3& b) {
@@ -167,6 +169,25 @@ struct Renderer::RayContext {
       if (winHi[i] >= q) return std::max(q, winLo[i]);
     return none;
   }
+};
+
+// A ray of the field tracer between its set-up (beginWalk()) and its end (endWalk()): the ray, its
+// context, and its walk's state at the top of the walk's loop, where the walk can be handed over
+// (to the walk in lanes, walk_lanes.h, and back).
+struct Renderer::Walk {
+  Ray ray;
+  RayContext rc;
+  double h8 = 0.0;    // grid points of the ray are t = q h8
+  long q0 = 0, q1 = 0;  // the clip's, on the grid
+  long q = 0;         // the walk's point
+  bool known = false;  // f at q is known: fa (and fl, the value its Lipschitz bound holds for)
+  double fa = 0.0, fl = 0.0;
+  long prevQ = 0;      // the last point evaluated before q, and f there
+  double prevF = -1.0;
+  int shortSteps = 0;  // walk steps in a row shorter than kSubdivisions / 8
+  long failedUntil[2] = {0, 0};  // inside windows: stretches whose interval tests failed
+  double invStepH8 = 0.0, invRayH8 = 0.0;  // 1 / (kStepRate h8), 1 / (lf h8)
+  glm::dvec3 at(long k) const { return ray.origin + (static_cast<double>(k) * h8) * ray.dir; }
 };
 
 }  // namespace emboss

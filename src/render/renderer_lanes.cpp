@@ -1,0 +1,136 @@
+// The field tracer's centre rays of a row, their walks taken several at once in SIMD lanes
+// (walk_lanes.h) where they are plain Lipschitz steps, each ray set up and finished alone.
+#include <cmath>
+#include <limits>
+
+#include "frep/workpiece.h"
+#include "render/renderer_internal.h"
+#include "render/walk_lanes.h"
+#include "util/portable_math.h"
+
+namespace emboss {
+
+using namespace render_internal;
+
+bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& end) const {
+  const RayContext& rc = walk.rc;
+  if (!rc.lipschitz || rc.dense) return false;
+  // The walk's first turns while each is a skip (endWalk()'s loop: the same state after them).
+  while (walk.q < walk.q1 && !rc.inWindow(walk.q, walk.q)) {
+    const long e = rc.skipEnd(walk.q);
+    if (e < walk.q) break;
+    ++st.steps;
+    walk.q = e + 1;
+    walk.known = false;
+    walk.prevQ = walk.q0 - 2;
+  }
+  if (walk.q >= walk.q1 || walk.known || rc.inWindow(walk.q, walk.q)) return false;
+  // The lane stops at the next window, the next skip, the clip's end, or where the ray's (x, y)
+  // may enter a set operation's support (two points early: f there is not the workpiece's alone).
+  end = std::min(walk.q1, rc.nextWindow(walk.q + 1, walk.q1 + 1));
+  for (int i = 0; i < rc.skips; ++i)
+    if (rc.skipLo[i] > walk.q) end = std::min(end, rc.skipLo[i]);
+  for (int k = 0; k < rc.setOpCount; ++k) {
+    const Box2& s = rc.setOps[k]->support;
+    double ta, tb;
+    if (!clipRay(walk.ray, Box3{s.x0, s.y0, -1e30, s.x1, s.y1, 1e30}, ta, tb)) continue;
+    const long entry = floorToLong(ta / walk.h8) - 2;
+    if (entry <= walk.q) return false;
+    end = std::min(end, entry);
+  }
+  return true;
+}
+
+void Renderer::findFieldHits(const double* xs, const double* ys, int count, const Rect& reach, RenderStats& st,
+                             std::vector<std::uint32_t>& scratch, double* kept, bool reuse,
+                             std::optional<Hit>* out) const {
+  static const int kLanes = walkLaneCount();
+  const int lanes = std::min(kLanes, kMaxWalkLanes);
+  if (!options_.walkLanes || lanes < 2 || (workpieceKind_ != 1 && workpieceKind_ != 2) || !field_.configured()) {
+    for (int i = 0; i < count; ++i)
+      out[i] = findHit(xs[i], ys[i], true, reach, st, scratch, kept ? kept + i : nullptr, reuse, false);
+    return;
+  }
+  const Box3 b = model_->workpiece().bounds();  // (-w, -h, -d, w, h, d); a disc's w is its radius
+  const WalkSheet sheet{field_.lattice(), field_.domain(), &field_, workpieceKind_, b.x1, b.y1, b.z1};
+  thread_local WalkLanes lane;
+  thread_local Walk walks[kMaxWalkLanes];
+  thread_local std::vector<const SetOp*> ops[kMaxWalkLanes];
+  int pointOf[kMaxWalkLanes];
+  for (int k = 0; k < kMaxWalkLanes; ++k) lane.state[k] = 0.0;
+  auto record = [&](int i, const std::optional<Hit>& hit) {
+    out[i] = hit;
+    if (kept) kept[i] = hit ? hit->t : std::numeric_limits<double>::infinity();
+  };
+  // Lane k into the walk it stopped, which goes on alone.
+  auto finish = [&](int k) {
+    Walk& walk = walks[k];
+    walk.q = static_cast<long>(lane.q[k]);
+    walk.prevQ = static_cast<long>(lane.prevQ[k]);
+    walk.prevF = lane.prevF[k];
+    walk.shortSteps = static_cast<int>(lane.shortSteps[k]);
+    walk.known = lane.state[k] == 3.0;
+    if (walk.known) walk.fa = walk.fl = lane.f[k];
+    lane.state[k] = 0.0;
+    record(pointOf[k], endWalk(walk, st, scratch, false));
+  };
+  // A walk into lane k.
+  auto load = [&](int k, const Walk& walk, long end) {
+    const glm::dvec3 &o = walk.ray.origin, &d = walk.ray.dir;
+    lane.ox[k] = o.x, lane.oy[k] = o.y, lane.oz[k] = o.z;
+    lane.dx[k] = d.x, lane.dy[k] = d.y, lane.dz[k] = d.z;
+    lane.h8[k] = walk.h8;
+    lane.invStep[k] = walk.invStepH8, lane.invRay[k] = walk.invRayH8;
+    lane.q0[k] = static_cast<double>(walk.q0), lane.q1[k] = static_cast<double>(walk.q1);
+    const RayContext& rc = walk.rc;
+    // The next window (q is in none: the first after it).
+    lane.window[k] = static_cast<double>(rc.nextWindow(walk.q + 1, walk.q1 + 1));
+    lane.end[k] = static_cast<double>(end);
+    lane.ax[k] = d.x >= 0 ? d.x : 0.0, lane.bx[k] = d.x < 0 ? d.x : 0.0;
+    lane.ay[k] = d.y >= 0 ? d.y : 0.0, lane.by[k] = d.y < 0 ? d.y : 0.0;
+    lane.side[k] = workpieceKind_ == 1 ? std::max(std::abs(d.x), std::abs(d.y)) : std::sqrt(d.x * d.x + d.y * d.y);
+    lane.q[k] = static_cast<double>(walk.q), lane.prevQ[k] = static_cast<double>(walk.prevQ);
+    lane.prevF[k] = walk.prevF, lane.shortSteps[k] = walk.shortSteps;
+    lane.f[k] = 0.0;
+    lane.state[k] = 1.0;
+  };
+  int next = 0, walking = 0;
+  for (;;) {
+    // Free lanes take the next rays that walk (the others are found here alone).
+    for (int k = 0; k < lanes && next < count; ++k) {
+      if (lane.state[k] != 0.0) continue;
+      while (next < count) {
+        const int i = next++;
+        const double sx = xs[i], sy = ys[i];
+        double* const k1 = kept ? kept + i : nullptr;
+        if ((k1 && reuse && !std::isnan(*k1)) || missesSurely(sx, sy, true, reach)) {
+          out[i] = findHit(sx, sy, true, reach, st, scratch, k1, reuse, false);
+          continue;
+        }
+        Walk& walk = walks[k];
+        if (!beginWalk(sx, sy, st, ops[k], walk, 0)) {
+          record(i, std::nullopt);
+          continue;
+        }
+        long end = 0;
+        if (!walkFitsLanes(walk, st, end)) {
+          record(i, endWalk(walk, st, scratch, false));
+          continue;
+        }
+        load(k, walk, end);
+        ++st.laneRays;
+        pointOf[k] = i;
+        ++walking;
+        break;
+      }
+    }
+    if (walking == 0) break;
+    std::uint64_t evaluations = 0;
+    walkLanes(sheet, lane, st.steps, evaluations);
+    st.evaluations += evaluations, st.fieldEvaluations += evaluations;
+    for (int k = 0; k < lanes; ++k)
+      if (lane.state[k] == 2.0 || lane.state[k] == 3.0) finish(k), --walking;
+  }
+}
+
+}  // namespace emboss

@@ -1,0 +1,211 @@
+// walkLanes for each SIMD target Highway knows (compiled once per target by foreach_target.h), and
+// the run-time choice among them. A step mirrors one turn of Renderer::endWalk()'s loop outside
+// the windows (renderer_field.cpp) line by line: the point, D, f, the stretch, its slope bound, the
+// step.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "render/walk_lanes.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+
+#include "render/walk_lanes.h"
+#include "render/height_field.h"
+#include "render/hermite-inl.h"
+
+#include <cstddef>
+#include <cstdint>
+
+HWY_BEFORE_NAMESPACE();
+namespace emboss {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using WalkTag = hn::CappedTag<double, kMaxWalkLanes>;
+
+int WalkLaneCount() { return static_cast<int>(hn::Lanes(WalkTag())); }
+
+// std::min and std::max of two doubles as <algorithm> defines them (b < a ? b : a, a < b ? b : a):
+// the same value as the walk's, down to which of two equal zeros.
+template <class V>
+HWY_INLINE V MinOf(V a, V b) {
+  return hn::IfThenElse(hn::Lt(b, a), b, a);
+}
+template <class V>
+HWY_INLINE V MaxOf(V a, V b) {
+  return hn::IfThenElse(hn::Lt(a, b), b, a);
+}
+
+void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
+  const WalkTag d;
+  using V = hn::Vec<WalkTag>;
+  const size_t lanes = hn::Lanes(d);
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
+  const V state = hn::Load(d, w.state);
+  const auto stepping = hn::Eq(state, one);                 // at q, f not known
+  const auto bracketing = hn::Eq(state, hn::Set(d, 4.0));  // f(q) >= 0 known: f(q - 1) wanted
+  const auto walking = hn::Or(stepping, bracketing);
+  if (hn::AllFalse(d, walking)) return;
+  const V q = hn::Load(d, w.q), h8 = hn::Load(d, w.h8);
+  const V qe = hn::IfThenElse(bracketing, hn::Sub(q, one), q);  // the point evaluated
+  const V ox = hn::Load(d, w.ox), oy = hn::Load(d, w.oy), oz = hn::Load(d, w.oz);
+  const V dx = hn::Load(d, w.dx), dy = hn::Load(d, w.dy), dz = hn::Load(d, w.dz);
+  // The point: origin + (q h8) dir (Walk::at()).
+  const V t = hn::Mul(qe, h8);
+  const V px = hn::Add(ox, hn::Mul(t, dx)), py = hn::Add(oy, hn::Mul(t, dy)), pz = hn::Add(oz, hn::Mul(t, dz));
+  // Inside the field's domain (HeightField::contains()); elsewhere the ray walks alone.
+  const Box2& dom = sheet.domain;
+  const auto inField = hn::And(hn::And(hn::Ge(px, hn::Set(d, dom.x0)), hn::Ge(py, hn::Set(d, dom.y0))),
+                               hn::And(hn::Le(px, hn::Set(d, dom.x1)), hn::Le(py, hn::Set(d, dom.y1))));
+  const auto eval = hn::And(walking, inField);
+
+  // D there: HeightField::value() (a lane outside the field reads a clamped cell, unused).
+  const SampleLattice& l = sheet.lattice;
+  const V s = hn::Set(d, l.s);
+  const V fx = hn::Mul(hn::Sub(px, hn::Set(d, l.x0)), hn::Set(d, l.invS));
+  const V fy = hn::Mul(hn::Sub(py, hn::Set(d, l.y0)), hn::Set(d, l.invS));
+  V u, v;
+  HWY_ALIGN int32_t first[kMaxWalkLanes];
+  Cells(d, fx, fy, l.nx, l.ny, u, v, first);
+  // The four corners' samples (00, 10, 01, 11), four floats each, read lane by lane.
+  const hn::Rebind<float, WalkTag> df;
+  HWY_ALIGN float c[16][kMaxWalkLanes];
+  for (size_t k = 0; k < lanes; ++k) {
+    const float* r0 = l.samples + static_cast<size_t>(static_cast<uint32_t>(first[k])) * 4;
+    const float* r1 = r0 + static_cast<size_t>(l.nx) * 4;
+    for (int m = 0; m < 4; ++m) {
+      c[m][k] = r0[m], c[4 + m][k] = r0[4 + m];
+      c[8 + m][k] = r1[m], c[12 + m][k] = r1[4 + m];
+    }
+  }
+  auto at = [&](int m) { return hn::PromoteTo(d, hn::Load(df, c[m])); };
+  V D;
+  {
+    const V d00 = at(0), x00 = at(1), y00 = at(2), t00 = at(3);
+    const V d10 = at(4), x10 = at(5), y10 = at(6), t10 = at(7);
+    const V d01 = at(8), x01 = at(9), y01 = at(10), t01 = at(11);
+    const V d11 = at(12), x11 = at(13), y11 = at(14), t11 = at(15);
+    V buH0, buH1, buG0, buG1, bvH0, bvH1, bvG0, bvG1;
+    Basis(u, buH0, buH1, buG0, buG1), Basis(v, bvH0, bvH1, bvG0, bvG1);
+    const V a0 = Row(buH0, buH1, buG0, buG1, s, d00, d10, x00, x10);
+    const V a1 = Row(buH0, buH1, buG0, buG1, s, d01, d11, x01, x11);
+    const V b0 = Row(buH0, buH1, buG0, buG1, s, y00, y10, t00, t10);
+    const V b1 = Row(buH0, buH1, buG0, buG1, s, y01, y11, t01, t11);
+    D = Row(bvH0, bvH1, bvG0, bvG1, s, a0, a1, b0, b1);
+  }
+  // f: the workpiece at (x, y, z - D) (workpieces.h, its eval()).
+  const V zp = hn::Sub(pz, D);
+  const V W = hn::Set(d, sheet.w), T = hn::Set(d, sheet.d);
+  const V faces = MinOf(hn::Add(zp, T), hn::Sub(T, zp));
+  V f;
+  if (sheet.kind == 1) {
+    const V H = hn::Set(d, sheet.h);
+    f = MinOf(MinOf(MinOf(hn::Add(px, W), hn::Sub(W, px)), MinOf(hn::Add(py, H), hn::Sub(H, py))), faces);
+  } else {
+    f = MinOf(hn::Sub(W, hn::Sqrt(hn::Add(hn::Mul(px, px), hn::Mul(py, py)))), faces);
+  }
+  counts[1] += hn::CountTrue(d, eval);
+
+  // Where f < 0 the walk steps; at f >= 0 (a hit) the point before is evaluated next (when the
+  // walk did not come from there, nor start here: Renderer::endWalk()'s bracket).
+  const auto go = hn::And(hn::And(eval, stepping), hn::Lt(f, zero));
+  V n = zero;
+  if (!hn::AllFalse(d, go)) {
+    const V cap = hn::Set(d, 1e15), negF = hn::Neg(f);
+    // The stretch the step can reach when the ray's slope bound is at least kStepRate.
+    const V reachQ =
+        MinOf(hn::Load(d, w.q1), hn::Add(hn::Add(q, hn::Trunc(MinOf(hn::Mul(negF, hn::Load(d, w.invStep)), cap))), one));
+    const V tr = hn::Mul(reachQ, h8);
+    const V rx = hn::Add(ox, hn::Mul(tr, dx)), ry = hn::Add(oy, hn::Mul(tr, dy));
+    const V bx0 = MaxOf(MinOf(px, rx), hn::Set(d, dom.x0)), by0 = MaxOf(MinOf(py, ry), hn::Set(d, dom.y0));
+    const V bx1 = MinOf(MaxOf(px, rx), hn::Set(d, dom.x1)), by1 = MinOf(MaxOf(py, ry), hn::Set(d, dom.y1));
+    // D's slopes over the stretch (HeightField::bound()): a box inside one leaf of the pyramid
+    // reads that leaf, here; any other box the pyramid, a lane at a time.
+    const hn::Rebind<int32_t, WalkTag> di;
+    auto leaf = [&](V x, double origin, int n) {
+      const auto cell = hn::DemoteTo(di, hn::Mul(hn::Sub(x, hn::Set(d, origin)), hn::Set(d, l.invS)));
+      return hn::ShiftRight<3>(hn::Min(hn::Max(cell, hn::Zero(di)), hn::Set(di, n - 2)));
+    };
+    const auto i0 = leaf(bx0, l.x0, l.nx), i1 = leaf(bx1, l.x0, l.nx);
+    const auto j0 = leaf(by0, l.y0, l.ny), j1 = leaf(by1, l.y0, l.ny);
+    int leafWidth = 0;
+    const float* const leaves = sheet.field->leaves(leafWidth);
+    HWY_ALIGN int32_t oneLeaf[kMaxWalkLanes];  // the leaf holding the box, or -1
+    hn::Store(hn::IfThenElse(hn::And(hn::Eq(i0, i1), hn::Eq(j0, j1)), hn::Add(hn::Mul(j0, hn::Set(di, leafWidth)), i0),
+                             hn::Set(di, -1)),
+              di, oneLeaf);
+    HWY_ALIGN double box[4][kMaxWalkLanes], stepping[kMaxWalkLanes];
+    hn::Store(bx0, d, box[0]), hn::Store(by0, d, box[1]), hn::Store(bx1, d, box[2]), hn::Store(by1, d, box[3]);
+    hn::Store(hn::IfThenElseZero(go, one), d, stepping);
+    HWY_ALIGN double g[4][kMaxWalkLanes];
+    for (size_t k = 0; k < lanes; ++k) {
+      if (stepping[k] == 0.0) {
+        g[0][k] = g[1][k] = g[2][k] = g[3][k] = 0.0;
+      } else if (oneLeaf[k] >= 0) {
+        const float* node = leaves + static_cast<size_t>(oneLeaf[k]) * 6;  // lo, hi, gxlo, gxhi, gylo, gyhi
+        g[0][k] = node[2], g[1][k] = node[3], g[2][k] = node[4], g[3][k] = node[5];
+      } else {
+        const HeightField::Bound b = sheet.field->bound(Box2{box[0][k], box[1][k], box[2][k], box[3][k]});
+        g[0][k] = b.gxlo, g[1][k] = b.gxhi, g[2][k] = b.gylo, g[3][k] = b.gyhi;
+      }
+    }
+    // lipschitzAlong() (renderer_internal.h).
+    const V gxlo = hn::Load(d, g[0]), gxhi = hn::Load(d, g[1]), gylo = hn::Load(d, g[2]), gyhi = hn::Load(d, g[3]);
+    const V ax = hn::Load(d, w.ax), bx = hn::Load(d, w.bx), ay = hn::Load(d, w.ay), by = hn::Load(d, w.by);
+    const V slo = hn::Add(hn::Add(hn::Add(hn::Mul(gxlo, ax), hn::Mul(gxhi, bx)), hn::Mul(gylo, ay)), hn::Mul(gyhi, by));
+    const V shi = hn::Add(hn::Add(hn::Add(hn::Mul(gxhi, ax), hn::Mul(gxlo, bx)), hn::Mul(gyhi, ay)), hn::Mul(gylo, by));
+    const V dzBound = MaxOf(hn::Abs(hn::Sub(dz, slo)), hn::Abs(hn::Sub(dz, shi)));
+    const V lf = hn::Add(hn::Mul(MaxOf(hn::Load(d, w.side), dzBound), hn::Set(d, 1.0 + 1e-9)), hn::Set(d, 1e-12));
+    // The step: as far as the stretch's bound, at least as far as the ray's, never into a window.
+    const V num = hn::Sub(negF, hn::Set(d, 1e-7));  // kPruneEps
+    const V n1 = MinOf(hn::Trunc(MinOf(hn::Div(num, hn::Mul(lf, h8)), cap)), hn::Sub(hn::Sub(reachQ, q), one));
+    const V n2 = hn::Trunc(MinOf(hn::Mul(num, hn::Load(d, w.invRay)), cap));
+    const V nextWindow = MaxOf(hn::Add(q, one), hn::Load(d, w.window));
+    n = MaxOf(zero, MinOf(MaxOf(n1, n2), hn::Sub(hn::Sub(nextWindow, q), one)));
+  }
+  // Six short steps in a row: the ray's own walk searches a cell instead.
+  const V shortSteps = hn::Load(d, w.shortSteps);
+  const V shortNew = hn::IfThenElse(hn::Lt(n, hn::Set(d, 2.0)), hn::Add(shortSteps, one), zero);  // kSubdivisions / 8
+  const auto creep = hn::And(go, hn::Ge(shortNew, hn::Set(d, 6.0)));
+  const auto step = hn::AndNot(creep, go);
+  const V qNew = hn::Add(hn::Add(q, n), one);
+  // The bracket's point before the hit: the walk's last point.
+  const auto bracketed = hn::And(bracketing, eval);
+  const V prevQ = hn::Load(d, w.prevQ);
+  hn::Store(hn::IfThenElse(step, qNew, q), d, w.q);
+  hn::Store(hn::IfThenElse(step, q, hn::IfThenElse(bracketed, qe, prevQ)), d, w.prevQ);
+  hn::Store(hn::IfThenElse(hn::Or(step, bracketed), f, hn::Load(d, w.prevF)), d, w.prevF);
+  hn::Store(hn::IfThenElse(step, shortNew, shortSteps), d, w.shortSteps);
+  counts[0] += hn::CountTrue(d, step);
+  // A hit (f >= 0) to bracket; stopped with f at q (a hit bracketed or not to be, f neither below
+  // nor above zero, creeping), or without (off the field, or at a window, a skip or the clip's end).
+  const auto found = hn::And(hn::And(eval, stepping), hn::Ge(f, zero));
+  const auto toBracket =
+      hn::AndNot(hn::Or(hn::Eq(q, hn::Load(d, w.q0)), hn::Eq(prevQ, hn::Sub(q, one))), found);
+  const auto withF = hn::Or(hn::Or(hn::AndNot(go, hn::And(eval, stepping)), creep), bracketing);
+  const auto without = hn::Or(hn::AndNot(inField, stepping), hn::And(step, hn::Ge(qNew, hn::Load(d, w.end))));
+  hn::Store(hn::IfThenElse(hn::And(eval, stepping), f, hn::Load(d, w.f)), d, w.f);
+  hn::Store(hn::IfThenElse(toBracket, hn::Set(d, 4.0),
+                           hn::IfThenElse(withF, hn::Set(d, 3.0), hn::IfThenElse(without, hn::Set(d, 2.0), state))),
+            d, w.state);
+}
+
+// NOLINTNEXTLINE(google-readability-namespace-comments)
+}  // namespace HWY_NAMESPACE
+}  // namespace emboss
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace emboss {
+
+HWY_EXPORT(WalkLaneCount);
+HWY_EXPORT(WalkLanesStep);
+
+int walkLaneCount() { return HWY_DYNAMIC_DISPATCH(WalkLaneCount)(); }
+
+void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations) {
+  uint64_t counts[2] = {0, 0};
+  HWY_DYNAMIC_DISPATCH(WalkLanesStep)(sheet, lanes, counts);
+  steps += counts[0], evaluations += counts[1];
+}
+
+}  // namespace emboss
+#endif  // HWY_ONCE

@@ -1,0 +1,57 @@
+// The field tracer's Lipschitz walk for several rays at once, one ray a SIMD lane (Highway, the
+// instruction set chosen at run time). A lane takes the walk's plainest step -- outside every
+// window and skip, D from the field, f the workpiece's own -- with the same operations in the same
+// order as Renderer::endWalk() takes it, and stops wherever that walk would do anything else (a
+// hit, a near miss creeping, a window or skip ahead, the field's edge). Its ray's walk then goes
+// on alone from where the lane stopped, so every ray finds the hit it finds alone, bit for bit
+// (docs/rendering.md, "Rays in lanes"; tests/render/walk_lanes_test.cpp).
+#pragma once
+
+#include <cstdint>
+
+#include "frep/box.h"
+#include "render/field_lanes.h"
+
+namespace emboss {
+
+class HeightField;
+
+inline constexpr int kMaxWalkLanes = 8;
+
+// What a lane's step reads besides its ray: the field and the workpiece (a plate or a disc).
+struct WalkSheet {
+  SampleLattice lattice;        // the field's samples (HeightField::lattice())
+  Box2 domain;                  // where the field holds D (HeightField::domain())
+  const HeightField* field = nullptr;  // its slope bounds (HeightField::bound())
+  int kind = 1;                 // 1: a plate 2w x 2h x 2d; 2: a disc of radius w, 2d thick
+  double w = 0, h = 0, d = 0;
+};
+
+// The rays in the lanes and their walks' states, a value per lane (unused lanes: state 0).
+struct WalkLanes {
+  // 0 empty; walking: 1 at q, 4 bracketing a hit at q; stopped: 2, 3 with f at q (in f).
+  alignas(64) double state[kMaxWalkLanes];
+  alignas(64) double ox[kMaxWalkLanes], oy[kMaxWalkLanes], oz[kMaxWalkLanes];  // the ray
+  alignas(64) double dx[kMaxWalkLanes], dy[kMaxWalkLanes], dz[kMaxWalkLanes];
+  alignas(64) double h8[kMaxWalkLanes];       // grid points at t = q h8
+  alignas(64) double invStep[kMaxWalkLanes];  // 1 / (kStepRate h8)
+  alignas(64) double invRay[kMaxWalkLanes];   // 1 / (lf h8), lf the ray's slope bound
+  alignas(64) double q0[kMaxWalkLanes], q1[kMaxWalkLanes];  // the clip's start and end
+  alignas(64) double window[kMaxWalkLanes];   // the next window's first point (q1 + 1: none)
+  alignas(64) double end[kMaxWalkLanes];      // the lane stops on reaching it (a window, a skip, q1)
+  // lipschitzAlong()'s terms of the direction: d.x where d.x >= 0 (else 0), d.x where d.x < 0
+  // (else 0), the same of d.y, and the workpiece's term of (d.x, d.y).
+  alignas(64) double ax[kMaxWalkLanes], bx[kMaxWalkLanes], ay[kMaxWalkLanes], by[kMaxWalkLanes];
+  alignas(64) double side[kMaxWalkLanes];
+  // The walk's state (Renderer::Walk), integers held as doubles (exactly: below 2^53).
+  alignas(64) double q[kMaxWalkLanes], prevQ[kMaxWalkLanes], prevF[kMaxWalkLanes], shortSteps[kMaxWalkLanes];
+  alignas(64) double f[kMaxWalkLanes];  // f at q, in states 3 and 4
+};
+
+// How many rays a step walks at once here (1: no SIMD; the caller walks them alone).
+int walkLaneCount();
+// One step of each walking lane (states 1 and 4); a lane that stops gets state 2 or 3. Adds the
+// steps taken and the function evaluations made to `steps` and `evaluations`.
+void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations);
+
+}  // namespace emboss

@@ -1,0 +1,114 @@
+// The field tracer's walks taken in SIMD lanes (walk_lanes.h) find the hits each ray's walk finds
+// alone: the same bytes, over plates and discs, from above, at a slant, low down and close up
+// (where rays leave the field's domain), with set operations whose windows the lanes stop at.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "app/view_orbit.h"
+#include "bench/piece_generator.h"
+#include "render/renderer.h"
+#include "render/walk_lanes.h"
+#include "tools/metal.h"
+
+namespace emboss {
+namespace {
+
+ShadingParams shading(const Model& m) {
+  ShadingParams s;
+  s.metal = *metalByName("copper");
+  s.frontZ = m.workpiece().bounds().z1;
+  return s;
+}
+
+// The number of pixels whose bytes differ, and the first of them.
+std::string compare(const Image& a, const Image& b, int& differing) {
+  differing = 0;
+  std::string first;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      if (std::memcmp(a.pixel(x, y), b.pixel(x, y), 4) != 0 && differing++ == 0)
+        first = "(" + std::to_string(x) + ", " + std::to_string(y) + ")";
+  return first;
+}
+
+
+// The piece's own camera, and orbits round it: straight above, 30 and 60 degrees off it, low down,
+// and close up.
+std::vector<CameraSpec> viewsOf(const CameraSpec& base) {
+  std::vector<CameraSpec> out{base};
+  const Orbit o = orbitOf(base);
+  for (const auto& [azimuth, elevation, distance] :
+       {std::tuple{0.0, 90.0, 1.0}, {20.0, 60.0, 1.0}, {-35.0, 30.0, 1.0}, {60.0, 8.0, 1.0}, {10.0, 70.0, 0.25}}) {
+    Orbit v = o;
+    v.azimuthDeg = azimuth, v.elevationDeg = elevation, v.distance = o.distance * distance;
+    out.push_back(cameraAt(v, base));
+  }
+  return out;
+}
+
+void expectSameWithAndWithoutLanes(const Model& model, const CameraSpec& base, const std::string& what) {
+  ThreadPool pool(2);
+  const std::vector<CameraSpec> views = viewsOf(base);
+  std::uint64_t laneRays = 0, hits = 0;
+  for (size_t k = 0; k < views.size(); ++k) {
+    const Camera camera(views[k], 200, 130);
+    Image images[2];
+    RenderStats stats[2];
+    for (int lanes = 0; lanes < 2; ++lanes) {
+      Renderer r(pool);
+      RenderOptions o;
+      o.walkLanes = lanes == 1;
+      r.setOptions(o);
+      r.setCamera(camera);
+      r.setShading(shading(model));
+      r.sync(model);
+      r.renderFull(images[lanes], &stats[lanes]);
+    }
+    int differing = 0;
+    const std::string first = compare(images[0], images[1], differing);
+    EXPECT_EQ(differing, 0) << what << ", view " << k << ": first at " << first;
+    EXPECT_EQ(stats[0].laneRays, 0u);
+    EXPECT_EQ(stats[0].hits, stats[1].hits) << what << ", view " << k;
+    laneRays += stats[1].laneRays, hits += stats[1].hits;
+  }
+  // The lanes took most rays that hit (where SIMD has two lanes or more: every build here).
+  if (walkLaneCount() >= 2) EXPECT_GT(laneRays, hits / 2) << what;
+}
+
+TEST(WalkLanes, APlateGivesTheSameBytesAsEveryWalkAlone) {
+  PieceOptions opt;
+  opt.width = 120, opt.height = 80, opt.toolScale = 1.5;
+  const GeneratedPiece piece = generatePiece(300, 41, opt);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  expectSameWithAndWithoutLanes(*model, piece.camera, "plate");
+}
+
+TEST(WalkLanes, ADiscGivesTheSameBytesAsEveryWalkAlone) {
+  PieceOptions opt;
+  opt.shape = PieceShape::Disc, opt.width = opt.height = 90, opt.toolScale = 1.2;
+  const GeneratedPiece piece = generatePiece(300, 42, opt);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  expectSameWithAndWithoutLanes(*model, piece.camera, "disc");
+}
+
+// Set operations: a lane stops before a ray's (x, y) can enter one's support, and at its window.
+TEST(WalkLanes, SetOperationsGiveTheSameBytesAsEveryWalkAlone) {
+  PieceOptions opt;
+  opt.width = 80, opt.height = 60, opt.toolScale = 2.0;
+  const GeneratedPiece piece = generatePiece(120, 43, opt);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  PieceRandom rng(5);
+  for (int k = 0; k < 4; ++k) ASSERT_TRUE(model->add(randomSetOperation(rng, piece, 2.0)).ok());
+  expectSameWithAndWithoutLanes(*model, piece.camera, "plate with set operations");
+}
+
+}  // namespace
+}  // namespace emboss
