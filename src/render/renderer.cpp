@@ -271,13 +271,17 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   // metal. normalOf(j, n) gets a field hit's normal, colourOf(j, c) every hit's colour.
   auto finish = [&](ShadeBatch& batch, RenderStats& st, std::vector<std::uint32_t>& scratch, const auto& normalOf,
                     const auto& colourOf) {
-    thread_local std::array<double, ShadeBatch::kCapacity> dv, dgx, dgy;
+    thread_local std::array<double, ShadeBatch::kCapacity> dv, dgx, dgy, lx, ly, lz;
+    thread_local std::array<bool, ShadeBatch::kCapacity> inLanes;
     if (field) {
       field_.valuesAndGradients(batch.px, batch.py, batch.n, dv.data(), dgx.data(), dgy.data());
+      sheetNormals(batch.px, batch.py, batch.pz, dv.data(), dgx.data(), dgy.data(), batch.n, lx.data(), ly.data(),
+                   lz.data(), inLanes.data(), st);
       for (int j = 0; j < batch.n; ++j) {
         const auto jj = static_cast<size_t>(j);
         const Grad d(dv[jj], dgx[jj], dgy[jj], 0.0);
-        const glm::dvec3 n = fieldNormal(glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]), st, scratch, &d);
+        const glm::dvec3 n = inLanes[jj] ? glm::dvec3(lx[jj], ly[jj], lz[jj])
+                                         : fieldNormal(glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]), st, scratch, &d);
         normalOf(j, n);
         batch.nx[j] = n.x, batch.ny[j] = n.y, batch.nz[j] = n.z;
       }

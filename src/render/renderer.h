@@ -18,6 +18,7 @@
 #include "render/pixel_spans.h"
 #include "render/shading.h"
 #include "render/thread_pool.h"
+#include "render/walk_lanes.h"
 
 namespace emboss {
 
@@ -303,6 +304,13 @@ class Renderer {
   // as far as they can be (walk_lanes.h): the same hits.
   void findFieldHits(const double* xs, const double* ys, int count, const Rect& reach, RenderStats& st,
                      std::vector<std::uint32_t>& scratch, double* kept, bool reuse, std::optional<Hit>* out) const;
+  // fieldNormal() at n hits with D and its slopes there, in lanes (sheetNormalLanes()) for a plate
+  // or a disc: done[k] says whether (nx, ny, nz)[k] was found (else the caller calls
+  // fieldNormal()). Counts the evaluations.
+  void sheetNormals(const double* x, const double* y, const double* z, const double* dv, const double* dgx,
+                    const double* dgy, int n, double* nx, double* ny, double* nz, bool* done, RenderStats& st) const;
+  // The sheet as the lanes read it (walk_lanes.h): plates and discs.
+  WalkSheet walkSheet() const;
   // Whether a set-up walk can go into the lanes: after the skips it starts with (which it takes),
   // a plain walk step (no window, no set operation's support, the slope bound known); `end` gets
   // the point where the lane is to stop.

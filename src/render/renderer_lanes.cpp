@@ -41,6 +41,28 @@ bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& end) const {
   return true;
 }
 
+WalkSheet Renderer::walkSheet() const {
+  const Box3 b = model_->workpiece().bounds();  // (-w, -h, -d, w, h, d); a disc's w is its radius
+  return {field_.lattice(), field_.domain(), &field_, workpieceKind_, b.x1, b.y1, b.z1};
+}
+
+void Renderer::sheetNormals(const double* x, const double* y, const double* z, const double* dv, const double* dgx,
+                            const double* dgy, int n, double* nx, double* ny, double* nz, bool* done,
+                            RenderStats& st) const {
+  static const int kLanes = walkLaneCount();
+  const bool lanes = options_.walkLanes && kLanes >= 2 && (workpieceKind_ == 1 || workpieceKind_ == 2) &&
+                     field_.configured();
+  const int inLanes = lanes ? sheetNormalLanes(walkSheet(), x, y, z, dv, dgx, dgy, n, nx, ny, nz) : 0;
+  for (int k = 0; k < n; ++k) {
+    // (fieldNormal() reads D from the field inside its domain, and applies the set operations
+    // whose support holds the point: those are its own.)
+    bool ok = k < inLanes && field_.contains(x[k], y[k]);
+    for (size_t i = 0; ok && i < setOps_.size(); ++i) ok = !setOps_[i].support.contains(x[k], y[k]);
+    done[k] = ok;
+    if (ok) ++st.evaluations, ++st.fieldEvaluations;
+  }
+}
+
 void Renderer::findFieldHits(const double* xs, const double* ys, int count, const Rect& reach, RenderStats& st,
                              std::vector<std::uint32_t>& scratch, double* kept, bool reuse,
                              std::optional<Hit>* out) const {
@@ -51,8 +73,7 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
       out[i] = findHit(xs[i], ys[i], true, reach, st, scratch, kept ? kept + i : nullptr, reuse, false);
     return;
   }
-  const Box3 b = model_->workpiece().bounds();  // (-w, -h, -d, w, h, d); a disc's w is its radius
-  const WalkSheet sheet{field_.lattice(), field_.domain(), &field_, workpieceKind_, b.x1, b.y1, b.z1};
+  const WalkSheet sheet = walkSheet();
   thread_local WalkLanes lane;
   thread_local Walk walks[kMaxWalkLanes];
   thread_local std::vector<const SetOp*> ops[kMaxWalkLanes];

@@ -188,6 +188,65 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
             d, w.state);
 }
 
+// The gradient's min: a.v <= b.v ? a : b (grad.h), value and slopes together.
+template <class M, class V>
+HWY_INLINE void MinGrad(V av, V ax, V ay, V az, V bv, V bx, V by, V bz, V& v, V& x, V& y, V& z) {
+  const M a = hn::Le(av, bv);
+  v = hn::IfThenElse(a, av, bv), x = hn::IfThenElse(a, ax, bx), y = hn::IfThenElse(a, ay, by), z = hn::IfThenElse(a, az, bz);
+}
+
+int SheetNormalLanes(const WalkSheet& sheet, const double* xs, const double* ys, const double* zs, const double* dv,
+                     const double* dgx, const double* dgy, int n, double* nx, double* ny, double* nz) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  using M = hn::Mask<decltype(d)>;
+  const int lanes = static_cast<int>(hn::Lanes(d));
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), W = hn::Set(d, sheet.w), T = hn::Set(d, sheet.d);
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) {
+    const V x = hn::LoadU(d, xs + k), y = hn::LoadU(d, ys + k), z = hn::LoadU(d, zs + k);
+    // z' = z - D as Grads: (z, 0, 0, 1) - (D, dD/dx, dD/dy, 0).
+    const V zv = hn::Sub(z, hn::LoadU(d, dv + k)), zx = hn::Sub(zero, hn::LoadU(d, dgx + k));
+    const V zy = hn::Sub(zero, hn::LoadU(d, dgy + k)), zz = hn::Sub(one, zero);
+    // The faces: min(z' + d, d - z').
+    V fv, fx, fy, fz;
+    MinGrad<M>(hn::Add(zv, T), hn::Add(zx, zero), hn::Add(zy, zero), hn::Add(zz, zero), hn::Sub(T, zv), hn::Sub(zero, zx),
+               hn::Sub(zero, zy), hn::Sub(zero, zz), fv, fx, fy, fz);
+    V gv, gx, gy, gz;
+    if (sheet.kind == 1) {
+      // min(min(min(x + w, w - x), min(y + h, h - y)), faces), x = (x, 1, 0, 0), y = (y, 0, 1, 0).
+      const V H = hn::Set(d, sheet.h), minus = hn::Sub(zero, one);
+      V av, ax, ay, az, bv, bx, by, bz, cv, cx, cy, cz;
+      MinGrad<M>(hn::Add(x, W), hn::Add(one, zero), hn::Add(zero, zero), hn::Add(zero, zero), hn::Sub(W, x), minus,
+                 hn::Sub(zero, zero), hn::Sub(zero, zero), av, ax, ay, az);
+      MinGrad<M>(hn::Add(y, H), hn::Add(zero, zero), hn::Add(one, zero), hn::Add(zero, zero), hn::Sub(H, y),
+                 hn::Sub(zero, zero), minus, hn::Sub(zero, zero), bv, bx, by, bz);
+      MinGrad<M>(av, ax, ay, az, bv, bx, by, bz, cv, cx, cy, cz);
+      MinGrad<M>(cv, cx, cy, cz, fv, fx, fy, fz, gv, gx, gy, gz);
+    } else {
+      // min(r - sqrt(sqr(x) + sqr(y)), faces): sqr(a) = (a^2, 2a a'), sqrt(a) = (s, a' 0.5 / s).
+      const V two = hn::Set(d, 2.0);
+      const V sxv = hn::Mul(x, x), sxx = hn::Mul(hn::Mul(two, x), one), sxy = hn::Mul(hn::Mul(two, x), zero);
+      const V syv = hn::Mul(y, y), syx = hn::Mul(hn::Mul(two, y), zero), syy = hn::Mul(hn::Mul(two, y), one);
+      const V sxz = hn::Mul(hn::Mul(two, x), zero), syz = hn::Mul(hn::Mul(two, y), zero);
+      const V qv = hn::Add(sxv, syv), qx = hn::Add(sxx, syx), qy = hn::Add(sxy, syy), qz = hn::Add(sxz, syz);
+      const V root = hn::Sqrt(hn::Max(qv, zero));
+      const V dr = hn::IfThenElse(hn::Gt(root, zero), hn::Div(hn::Set(d, 0.5), root), zero);
+      const V rv = hn::Sub(W, root), rx = hn::Sub(zero, hn::Mul(dr, qx)), ry = hn::Sub(zero, hn::Mul(dr, qy));
+      const V rz = hn::Sub(zero, hn::Mul(dr, qz));
+      MinGrad<M>(rv, rx, ry, rz, fv, fx, fy, fz, gv, gx, gy, gz);
+    }
+    // The unit normal -grad f / |grad f| (glm::length, glm's division), (0, 0, 1) where it is zero.
+    const V mx = hn::Neg(gx), my = hn::Neg(gy), mz = hn::Neg(gz);
+    const V len = hn::Sqrt(hn::Add(hn::Add(hn::Mul(mx, mx), hn::Mul(my, my)), hn::Mul(mz, mz)));
+    const M some = hn::Gt(len, zero);
+    hn::StoreU(hn::IfThenElse(some, hn::Div(mx, len), zero), d, nx + k);
+    hn::StoreU(hn::IfThenElse(some, hn::Div(my, len), zero), d, ny + k);
+    hn::StoreU(hn::IfThenElse(some, hn::Div(mz, len), one), d, nz + k);
+  }
+  return k;
+}
+
 // NOLINTNEXTLINE(google-readability-namespace-comments)
 }  // namespace HWY_NAMESPACE
 }  // namespace emboss
@@ -199,7 +258,14 @@ namespace emboss {
 HWY_EXPORT(WalkLaneCount);
 HWY_EXPORT(WalkLanesStep);
 
+HWY_EXPORT(SheetNormalLanes);
+
 int walkLaneCount() { return HWY_DYNAMIC_DISPATCH(WalkLaneCount)(); }
+
+int sheetNormalLanes(const WalkSheet& sheet, const double* x, const double* y, const double* z, const double* dv,
+                     const double* dgx, const double* dgy, int n, double* nx, double* ny, double* nz) {
+  return HWY_DYNAMIC_DISPATCH(SheetNormalLanes)(sheet, x, y, z, dv, dgx, dgy, n, nx, ny, nz);
+}
 
 void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations) {
   uint64_t counts[2] = {0, 0};

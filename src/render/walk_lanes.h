@@ -54,4 +54,11 @@ int walkLaneCount();
 // steps taken and the function evaluations made to `steps` and `evaluations`.
 void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations);
 
+// Renderer::fieldNormal() of a plate or a disc where no set operation acts, at the hits (x[k],
+// y[k], z[k]) with D and its slopes there (dv, dgx, dgy: HeightField::valuesAndGradients()), into
+// (nx[k], ny[k], nz[k]), for the first whole vectors of lanes of the n hits; returns how many were
+// done (the rest is the caller's). The same bits as fieldNormal() (tests/render/walk_lanes_test.cpp).
+int sheetNormalLanes(const WalkSheet& sheet, const double* x, const double* y, const double* z, const double* dv,
+                     const double* dgx, const double* dgy, int n, double* nx, double* ny, double* nz);
+
 }  // namespace emboss

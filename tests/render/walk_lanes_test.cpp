@@ -5,11 +5,13 @@
 
 #include <cstdint>
 #include <cstring>
+#include <random>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "app/view_orbit.h"
+#include "frep/workpieces.h"
 #include "bench/piece_generator.h"
 #include "render/renderer.h"
 #include "render/walk_lanes.h"
@@ -108,6 +110,46 @@ TEST(WalkLanes, SetOperationsGiveTheSameBytesAsEveryWalkAlone) {
   PieceRandom rng(5);
   for (int k = 0; k < 4; ++k) ASSERT_TRUE(model->add(randomSetOperation(rng, piece, 2.0)).ok());
   expectSameWithAndWithoutLanes(*model, piece.camera, "plate with set operations");
+}
+
+// The normals in lanes against fieldNormal()'s formula over Grads, bit for bit: points on and
+// beside each face, rim and edge of a plate and a disc, with D's slopes of either sign and zero
+// (where two terms of the min tie, and where the normal has zero components).
+TEST(WalkLanes, NormalsInLanesAreTheGradsOwnBitForBit) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int kind : {1, 2}) {
+    const Plate plate(30.0, 20.0, 0.4);
+    const Disc disc(25.0, 0.4);
+    const Workpiece& w = kind == 1 ? static_cast<const Workpiece&>(plate) : disc;
+    WalkSheet sheet;
+    sheet.kind = kind, sheet.w = kind == 1 ? 30.0 : 25.0, sheet.h = 20.0, sheet.d = 0.4;
+    constexpr int n = 4096;
+    std::vector<double> x(n), y(n), z(n), dv(n), dgx(n), dgy(n), nx(n), ny(n), nz(n);
+    for (int k = 0; k < n; ++k) {
+      const int what = k % 8;
+      x[k] = what == 1 ? 30.0 : what == 2 ? 0.0 : 26.0 * u(rng);
+      y[k] = what == 3 ? -20.0 : what == 2 ? 0.0 : 18.0 * u(rng);
+      dv[k] = what == 4 ? 0.0 : u(rng);
+      dgx[k] = what == 5 ? 0.0 : 2.0 * u(rng);
+      dgy[k] = what == 5 || what == 6 ? 0.0 : 2.0 * u(rng);
+      z[k] = dv[k] + (what == 7 ? 0.4 : what == 6 ? 0.0 : 0.5 * u(rng));
+    }
+    const int done = sheetNormalLanes(sheet, x.data(), y.data(), z.data(), dv.data(), dgx.data(), dgy.data(), n,
+                                      nx.data(), ny.data(), nz.data());
+    if (walkLaneCount() >= 2) EXPECT_GT(done, n - 16);
+    for (int k = 0; k < done; ++k) {
+      const Grad d(dv[k], dgx[k], dgy[k], 0.0);
+      const P3<Grad> q{Grad(x[k], 1, 0, 0), Grad(y[k], 0, 1, 0), Grad(z[k], 0, 0, 1)};
+      const Grad f = w.value(P3<Grad>{q.x, q.y, q.z - d});
+      glm::dvec3 m(-f.dx, -f.dy, -f.dz);
+      const double len = glm::length(m);
+      m = len > 0 ? m / len : glm::dvec3(0, 0, 1);
+      ASSERT_EQ(std::memcmp(&m.x, &nx[k], 8), 0) << "kind " << kind << ", point " << k << ": " << m.x << " " << nx[k];
+      ASSERT_EQ(std::memcmp(&m.y, &ny[k], 8), 0) << "kind " << kind << ", point " << k << ": " << m.y << " " << ny[k];
+      ASSERT_EQ(std::memcmp(&m.z, &nz[k], 8), 0) << "kind " << kind << ", point " << k << ": " << m.z << " " << nz[k];
+    }
+  }
 }
 
 }  // namespace
