@@ -266,6 +266,9 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   // Both passes shade their hits a batch at a time in SIMD lanes (the same bits as one at a time:
   // shadeMetal(const ShadingParams&, ShadeBatch&)), or one at a time under a patina.
   const bool lanes = !hasPatina_;
+  // The field tracer's rays found a row (or a row's edge samples) at a time, their walks in SIMD
+  // lanes (findFieldHits()).
+  const bool inLanes = field && walksInLanes();
   // Finishes a batch of hits: the field tracer's get their normals here (D's slopes at them read
   // in lanes too: HeightField::valuesAndGradients) and their cavities (cavityDepths); then the
   // metal. normalOf(j, n) gets a field hit's normal, colourOf(j, c) every hit's colour.
@@ -320,7 +323,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     batch.n = 0;
     thread_local std::vector<std::optional<Hit>> found;
     thread_local std::vector<double> xs, ys;
-    if (field) {
+    if (inLanes) {
       const auto n = static_cast<size_t>(x1 - x0);
       found.resize(n), xs.resize(n), ys.resize(n);
       for (int x = x0; x < x1; ++x) xs[static_cast<size_t>(x - x0)] = x + 0.5, ys[static_cast<size_t>(x - x0)] = y + 0.5;
@@ -331,7 +334,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       const size_t i = at(x, y);
       double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;
       const std::optional<Hit> hit =
-          field ? found[static_cast<size_t>(x - x0)] : findHit(x + 0.5, y + 0.5, field, reach, st, scratch, k, reuse, !field);
+          inLanes ? found[static_cast<size_t>(x - x0)] : findHit(x + 0.5, y + 0.5, field, reach, st, scratch, k, reuse, !field);
       if (!hit) continue;  // (a miss's normal is never read: `hits` says it missed)
       hits[i] = 1;
       if (!field) normal[i] = glm::vec3(hit->n);
@@ -416,11 +419,11 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       edges.push_back(EdgePixel{x, c, {}});
       for (int k = 0; k < 2; ++k) {
         const double sx = x + 0.5 + kEdgeSamples[k][0], sy = y + 0.5 + kEdgeSamples[k][1];
-        if (field) {
+        if (inLanes) {
           xs.push_back(sx), ys.push_back(sy);
           continue;
         }
-        const std::optional<Hit> sh = findHit(sx, sy, field, reach, st, scratch, nullptr, false, true);
+        const std::optional<Hit> sh = findHit(sx, sy, field, reach, st, scratch, nullptr, false, !field);
         if (!sh) {  // as sample() gives it
           edges.back().samples[k] = backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), w, h);
           continue;
@@ -429,7 +432,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
         if (batch.full()) flush();
       }
     }
-    if (field && !xs.empty()) {
+    if (inLanes && !xs.empty()) {
       found.resize(xs.size());
       findFieldHits(xs.data(), ys.data(), static_cast<int>(xs.size()), reach, st, scratch, nullptr, false, found.data());
       for (size_t j = 0; j < found.size(); ++j) {

@@ -309,6 +309,9 @@ class Renderer {
   // fieldNormal()). Counts the evaluations.
   void sheetNormals(const double* x, const double* y, const double* z, const double* dv, const double* dgx,
                     const double* dgy, int n, double* nx, double* ny, double* nz, bool* done, RenderStats& st) const;
+  // Whether the field tracer's walks and normals go into SIMD lanes (RenderOptions::walkLanes,
+  // plates and discs, where SIMD has two lanes or more).
+  bool walksInLanes() const;
   // The sheet as the lanes read it (walk_lanes.h): plates and discs.
   WalkSheet walkSheet() const;
   // Whether a set-up walk can go into the lanes: after the skips it starts with (which it takes),

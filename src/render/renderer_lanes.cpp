@@ -43,20 +43,31 @@ bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& end) const {
 
 WalkSheet Renderer::walkSheet() const {
   const Box3 b = model_->workpiece().bounds();  // (-w, -h, -d, w, h, d); a disc's w is its radius
-  return {field_.lattice(), field_.domain(), &field_, workpieceKind_, b.x1, b.y1, b.z1};
+  WalkSheet sheet{field_.lattice(), field_.domain(), &field_, workpieceKind_, b.x1, b.y1, b.z1, {}};
+  if (workpieceKind_ == 4) {
+    const ColumnMap& c = columns_;
+    sheet.d = c.halfThickness;
+    sheet.columns = {c.x0, c.y0, c.inv, c.nx, c.ny, c.lo.data(), c.hi.data()};
+  }
+  return sheet;
+}
+
+bool Renderer::walksInLanes() const {
+  static const int kLanes = walkLaneCount();
+  return options_.walkLanes && kLanes >= 2 && (workpieceKind_ == 1 || workpieceKind_ == 2 || workpieceKind_ == 4) &&
+         field_.configured();
 }
 
 void Renderer::sheetNormals(const double* x, const double* y, const double* z, const double* dv, const double* dgx,
                             const double* dgy, int n, double* nx, double* ny, double* nz, bool* done,
                             RenderStats& st) const {
-  static const int kLanes = walkLaneCount();
-  const bool lanes = options_.walkLanes && kLanes >= 2 && (workpieceKind_ == 1 || workpieceKind_ == 2) &&
-                     field_.configured();
-  const int inLanes = lanes ? sheetNormalLanes(walkSheet(), x, y, z, dv, dgx, dgy, n, nx, ny, nz) : 0;
+  const int inLanes = walksInLanes() ? sheetNormalLanes(walkSheet(), x, y, z, dv, dgx, dgy, n, nx, ny, nz) : 0;
   for (int k = 0; k < n; ++k) {
     // (fieldNormal() reads D from the field inside its domain, and applies the set operations
     // whose support holds the point: those are its own.)
     bool ok = k < inLanes && field_.contains(x[k], y[k]);
+    // (An outline sheet's: where W is the slab.)
+    if (ok && workpieceKind_ == 4) ok = columns_.halfThickness - std::abs(z[k] - dv[k]) <= columns_.at(x[k], y[k]).lo;
     for (size_t i = 0; ok && i < setOps_.size(); ++i) ok = !setOps_[i].support.contains(x[k], y[k]);
     done[k] = ok;
     if (ok) ++st.evaluations, ++st.fieldEvaluations;
@@ -68,7 +79,7 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
                              std::optional<Hit>* out) const {
   static const int kLanes = walkLaneCount();
   const int lanes = std::min(kLanes, kMaxWalkLanes);
-  if (!options_.walkLanes || lanes < 2 || (workpieceKind_ != 1 && workpieceKind_ != 2) || !field_.configured()) {
+  if (!walksInLanes()) {
     for (int i = 0; i < count; ++i)
       out[i] = findHit(xs[i], ys[i], true, reach, st, scratch, kept ? kept + i : nullptr, reuse, false);
     return;
@@ -91,7 +102,7 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     walk.prevF = lane.prevF[k];
     walk.shortSteps = static_cast<int>(lane.shortSteps[k]);
     walk.known = lane.state[k] == 3.0;
-    if (walk.known) walk.fa = walk.fl = lane.f[k];
+    if (walk.known) walk.fa = lane.f[k], walk.fl = lane.l[k];
     lane.state[k] = 0.0;
     record(pointOf[k], endWalk(walk, st, scratch, false));
   };
@@ -109,10 +120,12 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     lane.end[k] = static_cast<double>(end);
     lane.ax[k] = d.x >= 0 ? d.x : 0.0, lane.bx[k] = d.x < 0 ? d.x : 0.0;
     lane.ay[k] = d.y >= 0 ? d.y : 0.0, lane.by[k] = d.y < 0 ? d.y : 0.0;
-    lane.side[k] = workpieceKind_ == 1 ? std::max(std::abs(d.x), std::abs(d.y)) : std::sqrt(d.x * d.x + d.y * d.y);
+    lane.side[k] = workpieceKind_ == 1   ? std::max(std::abs(d.x), std::abs(d.y))
+                   : workpieceKind_ == 2 ? std::sqrt(d.x * d.x + d.y * d.y)
+                                         : 0.0;  // (lipschitzAlong(): the slab's rate alone)
     lane.q[k] = static_cast<double>(walk.q), lane.prevQ[k] = static_cast<double>(walk.prevQ);
     lane.prevF[k] = walk.prevF, lane.shortSteps[k] = walk.shortSteps;
-    lane.f[k] = 0.0;
+    lane.f[k] = lane.l[k] = 0.0;
     lane.state[k] = 1.0;
   };
   int next = 0, walking = 0;

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 HWY_BEFORE_NAMESPACE();
 namespace emboss {
@@ -55,7 +56,6 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   const Box2& dom = sheet.domain;
   const auto inField = hn::And(hn::And(hn::Ge(px, hn::Set(d, dom.x0)), hn::Ge(py, hn::Set(d, dom.y0))),
                                hn::And(hn::Le(px, hn::Set(d, dom.x1)), hn::Le(py, hn::Set(d, dom.y1))));
-  const auto eval = hn::And(walking, inField);
 
   // D there: HeightField::value() (a lane outside the field reads a clamped cell, unused).
   const SampleLattice& l = sheet.lattice;
@@ -91,25 +91,56 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
     const V b1 = Row(buH0, buH1, buG0, buG1, s, y01, y11, t01, t11);
     D = Row(bvH0, bvH1, bvG0, bvG1, s, a0, a1, b0, b1);
   }
-  // f: the workpiece at (x, y, z - D) (workpieces.h, its eval()).
+  // f: the workpiece at (x, y, z - D) (workpieces.h, its eval()), and the value its Lipschitz
+  // bound holds for (lb).
   const V zp = hn::Sub(pz, D);
   const V W = hn::Set(d, sheet.w), T = hn::Set(d, sheet.d);
-  const V faces = MinOf(hn::Add(zp, T), hn::Sub(T, zp));
-  V f;
-  if (sheet.kind == 1) {
-    const V H = hn::Set(d, sheet.h);
-    f = MinOf(MinOf(MinOf(hn::Add(px, W), hn::Sub(W, px)), MinOf(hn::Add(py, H), hn::Sub(H, py))), faces);
+  V f, lb;
+  auto eval = hn::And(walking, inField);
+  if (sheet.kind == 4) {
+    // Renderer::fieldValue(): the slab where it is at most the column's lo, the column's hi where
+    // that is negative (no set operation's support is near a lane), else the outline's program:
+    // the ray's own walk's.
+    const V slab = hn::Sub(T, hn::Abs(hn::Sub(pz, D)));
+    const WalkSheet::Columns& c = sheet.columns;
+    const hn::Rebind<int32_t, WalkTag> di;
+    const auto bi = hn::DemoteTo(di, hn::Floor(hn::Mul(hn::Sub(px, hn::Set(d, c.x0)), hn::Set(d, c.inv))));
+    const auto bj = hn::DemoteTo(di, hn::Floor(hn::Mul(hn::Sub(py, hn::Set(d, c.y0)), hn::Set(d, c.inv))));
+    const auto inMap = hn::And(hn::And(hn::Gt(bi, hn::Set(di, -1)), hn::Gt(bj, hn::Set(di, -1))),
+                               hn::And(hn::Lt(bi, hn::Set(di, c.nx)), hn::Lt(bj, hn::Set(di, c.ny))));
+    HWY_ALIGN int32_t block[kMaxWalkLanes];
+    hn::Store(hn::IfThenElse(inMap, hn::Add(hn::Mul(bj, hn::Set(di, c.nx)), bi), hn::Set(di, -1)), di, block);
+    HWY_ALIGN double colLo[kMaxWalkLanes], colHi[kMaxWalkLanes];
+    for (size_t k = 0; k < lanes; ++k) {
+      const bool in = block[k] >= 0;  // beyond the map: ColumnMap::block()'s (-inf, -1)
+      colLo[k] = in ? c.lo[block[k]] : -std::numeric_limits<float>::infinity();
+      colHi[k] = in ? c.hi[block[k]] : -1.0f;
+    }
+    const V lo = hn::Load(d, colLo), hi = hn::Load(d, colHi);
+    const auto isSlab = hn::Le(slab, lo), isHi = hn::AndNot(isSlab, hn::Lt(hi, zero));
+    f = hn::IfThenElse(isSlab, slab, hi);
+    lb = slab;
+    eval = hn::And(eval, hn::Or(isSlab, isHi));
   } else {
-    f = MinOf(hn::Sub(W, hn::Sqrt(hn::Add(hn::Mul(px, px), hn::Mul(py, py)))), faces);
+    const V faces = MinOf(hn::Add(zp, T), hn::Sub(T, zp));
+    if (sheet.kind == 1) {
+      const V H = hn::Set(d, sheet.h);
+      f = MinOf(MinOf(MinOf(hn::Add(px, W), hn::Sub(W, px)), MinOf(hn::Add(py, H), hn::Sub(H, py))), faces);
+    } else {
+      f = MinOf(hn::Sub(W, hn::Sqrt(hn::Add(hn::Mul(px, px), hn::Mul(py, py)))), faces);
+    }
+    lb = f;
   }
   counts[1] += hn::CountTrue(d, eval);
 
   // Where f < 0 the walk steps; at f >= 0 (a hit) the point before is evaluated next (when the
   // walk did not come from there, nor start here: Renderer::endWalk()'s bracket).
-  const auto go = hn::And(hn::And(eval, stepping), hn::Lt(f, zero));
+  // (An outline sheet's lane with f < 0 but its slab >= 0 stops: the ray's own walk searches
+  // that cell with the columns' bounds.)
+  const auto go = hn::And(hn::And(hn::And(eval, stepping), hn::Lt(f, zero)), hn::Lt(lb, zero));
   V n = zero;
   if (!hn::AllFalse(d, go)) {
-    const V cap = hn::Set(d, 1e15), negF = hn::Neg(f);
+    const V cap = hn::Set(d, 1e15), negF = hn::Neg(lb);
     // The stretch the step can reach when the ray's slope bound is at least kStepRate.
     const V reachQ =
         MinOf(hn::Load(d, w.q1), hn::Add(hn::Add(q, hn::Trunc(MinOf(hn::Mul(negF, hn::Load(d, w.invStep)), cap))), one));
@@ -181,8 +212,9 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   const auto toBracket =
       hn::AndNot(hn::Or(hn::Eq(q, hn::Load(d, w.q0)), hn::Eq(prevQ, hn::Sub(q, one))), found);
   const auto withF = hn::Or(hn::Or(hn::AndNot(go, hn::And(eval, stepping)), creep), bracketing);
-  const auto without = hn::Or(hn::AndNot(inField, stepping), hn::And(step, hn::Ge(qNew, hn::Load(d, w.end))));
+  const auto without = hn::Or(hn::AndNot(eval, stepping), hn::And(step, hn::Ge(qNew, hn::Load(d, w.end))));
   hn::Store(hn::IfThenElse(hn::And(eval, stepping), f, hn::Load(d, w.f)), d, w.f);
+  hn::Store(hn::IfThenElse(hn::And(eval, stepping), lb, hn::Load(d, w.l)), d, w.l);
   hn::Store(hn::IfThenElse(toBracket, hn::Set(d, 4.0),
                            hn::IfThenElse(withF, hn::Set(d, 3.0), hn::IfThenElse(without, hn::Set(d, 2.0), state))),
             d, w.state);
@@ -213,7 +245,13 @@ int SheetNormalLanes(const WalkSheet& sheet, const double* xs, const double* ys,
     MinGrad<M>(hn::Add(zv, T), hn::Add(zx, zero), hn::Add(zy, zero), hn::Add(zz, zero), hn::Sub(T, zv), hn::Sub(zero, zx),
                hn::Sub(zero, zy), hn::Sub(zero, zz), fv, fx, fy, fz);
     V gv, gx, gy, gz;
-    if (sheet.kind == 1) {
+    if (sheet.kind == 4) {
+      // An outline sheet where W is the slab: d - abs(z'), abs(a) = a.v < 0 ? -a : a.
+      const M below = hn::Lt(zv, zero);
+      const V av = hn::IfThenElse(below, hn::Neg(zv), zv), ax = hn::IfThenElse(below, hn::Neg(zx), zx);
+      const V ay = hn::IfThenElse(below, hn::Neg(zy), zy), az = hn::IfThenElse(below, hn::Neg(zz), zz);
+      gv = hn::Sub(T, av), gx = hn::Sub(zero, ax), gy = hn::Sub(zero, ay), gz = hn::Sub(zero, az);
+    } else if (sheet.kind == 1) {
       // min(min(min(x + w, w - x), min(y + h, h - y)), faces), x = (x, 1, 0, 0), y = (y, 0, 1, 0).
       const V H = hn::Set(d, sheet.h), minus = hn::Sub(zero, one);
       V av, ax, ay, az, bv, bx, by, bz, cv, cx, cy, cz;

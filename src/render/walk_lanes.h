@@ -23,8 +23,18 @@ struct WalkSheet {
   SampleLattice lattice;        // the field's samples (HeightField::lattice())
   Box2 domain;                  // where the field holds D (HeightField::domain())
   const HeightField* field = nullptr;  // its slope bounds (HeightField::bound())
-  int kind = 1;                 // 1: a plate 2w x 2h x 2d; 2: a disc of radius w, 2d thick
+  // 1: a plate 2w x 2h x 2d; 2: a disc of radius w, 2d thick; 4: an outline sheet 2d thick (W the
+  // slab d - |z'| where that is at most its column's bound lo, or the column's hi where that is
+  // negative; elsewhere the outline's program, which the ray's own walk evaluates).
+  int kind = 1;
   double w = 0, h = 0, d = 0;
+  // Outline sheets: the column map (Renderer::ColumnMap), nx x ny blocks of `size` from (x0, y0).
+  struct Columns {
+    double x0 = 0, y0 = 0, inv = 1;
+    int nx = 0, ny = 0;
+    const float* lo = nullptr;
+    const float* hi = nullptr;
+  } columns;
 };
 
 // The rays in the lanes and their walks' states, a value per lane (unused lanes: state 0).
@@ -46,6 +56,7 @@ struct WalkLanes {
   // The walk's state (Renderer::Walk), integers held as doubles (exactly: below 2^53).
   alignas(64) double q[kMaxWalkLanes], prevQ[kMaxWalkLanes], prevF[kMaxWalkLanes], shortSteps[kMaxWalkLanes];
   alignas(64) double f[kMaxWalkLanes];  // f at q, in states 3 and 4
+  alignas(64) double l[kMaxWalkLanes];  // the value f's Lipschitz bound holds for there (f, or the slab)
 };
 
 // How many rays a step walks at once here (1: no SIMD; the caller walks them alone).
@@ -54,7 +65,8 @@ int walkLaneCount();
 // steps taken and the function evaluations made to `steps` and `evaluations`.
 void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations);
 
-// Renderer::fieldNormal() of a plate or a disc where no set operation acts, at the hits (x[k],
+// Renderer::fieldNormal() of a plate, a disc or an outline sheet (where W is its slab: the caller
+// checks) where no set operation acts, at the hits (x[k],
 // y[k], z[k]) with D and its slopes there (dv, dgx, dgy: HeightField::valuesAndGradients()), into
 // (nx[k], ny[k], nz[k]), for the first whole vectors of lanes of the n hits; returns how many were
 // done (the rest is the caller's). The same bits as fieldNormal() (tests/render/walk_lanes_test.cpp).

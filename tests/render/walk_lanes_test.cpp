@@ -79,7 +79,9 @@ void expectSameWithAndWithoutLanes(const Model& model, const CameraSpec& base, c
     laneRays += stats[1].laneRays, hits += stats[1].hits;
   }
   // The lanes took most rays that hit (where SIMD has two lanes or more: every build here).
-  if (walkLaneCount() >= 2) EXPECT_GT(laneRays, hits / 2) << what;
+  if (walkLaneCount() >= 2) {
+    EXPECT_GT(laneRays, hits / 2) << what;
+  }
 }
 
 TEST(WalkLanes, APlateGivesTheSameBytesAsEveryWalkAlone) {
@@ -112,13 +114,33 @@ TEST(WalkLanes, SetOperationsGiveTheSameBytesAsEveryWalkAlone) {
   expectSameWithAndWithoutLanes(*model, piece.camera, "plate with set operations");
 }
 
+// An outline sheet (an imported vm medallion, W the slab or its column's bound where those decide
+// it): lanes stop where the outline's program is wanted, and at a bead blended on beside it.
+TEST(WalkLanes, AnOutlineSheetGivesTheSameBytesAsEveryWalkAlone) {
+  auto outline = generateOutlinePiece(150, 5, 18.0, 0.5, 30, 5, true);
+  ASSERT_TRUE(outline.ok()) << outline.error();
+  const GeneratedPiece& piece = *outline;
+  Model model(piece.workpiece, piece.deformation);
+  for (const Operation& o : piece.operations) ASSERT_TRUE(model.add(o).ok());
+  const Box3 b = piece.workpiece->bounds();
+  Operation bead;
+  bead.kind = OpKind::BlendUnion;
+  bead.tool.type = ToolShape::Type::Sphere;
+  bead.tool.r = 1.5;
+  bead.tool.center = {b.x0 + 1.0, b.y0 + 1.0, 0.5};
+  bead.a1 = 0.4, bead.a2 = 1.0, bead.a3 = 3.0;
+  ASSERT_TRUE(model.add(bead).ok());
+  expectSameWithAndWithoutLanes(model, piece.camera, "outline sheet");
+}
+
 // The normals in lanes against fieldNormal()'s formula over Grads, bit for bit: points on and
 // beside each face, rim and edge of a plate and a disc, with D's slopes of either sign and zero
-// (where two terms of the min tie, and where the normal has zero components).
+// (where two terms of the min tie, and where the normal has zero components), and an outline
+// sheet's slab.
 TEST(WalkLanes, NormalsInLanesAreTheGradsOwnBitForBit) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int kind : {1, 2}) {
+  for (int kind : {1, 2, 4}) {
     const Plate plate(30.0, 20.0, 0.4);
     const Disc disc(25.0, 0.4);
     const Workpiece& w = kind == 1 ? static_cast<const Workpiece&>(plate) : disc;
@@ -137,11 +159,14 @@ TEST(WalkLanes, NormalsInLanesAreTheGradsOwnBitForBit) {
     }
     const int done = sheetNormalLanes(sheet, x.data(), y.data(), z.data(), dv.data(), dgx.data(), dgy.data(), n,
                                       nx.data(), ny.data(), nz.data());
-    if (walkLaneCount() >= 2) EXPECT_GT(done, n - 16);
+    if (walkLaneCount() >= 2) {
+      EXPECT_GT(done, n - 16);
+    }
     for (int k = 0; k < done; ++k) {
       const Grad d(dv[k], dgx[k], dgy[k], 0.0);
       const P3<Grad> q{Grad(x[k], 1, 0, 0), Grad(y[k], 0, 1, 0), Grad(z[k], 0, 0, 1)};
-      const Grad f = w.value(P3<Grad>{q.x, q.y, q.z - d});
+      // (An outline sheet's where W is its slab: fieldNormal()'s d - abs(z').)
+      const Grad f = kind == 4 ? Grad(0.4) - abs(q.z - d) : w.value(P3<Grad>{q.x, q.y, q.z - d});
       glm::dvec3 m(-f.dx, -f.dy, -f.dz);
       const double len = glm::length(m);
       m = len > 0 ? m / len : glm::dvec3(0, 0, 1);
