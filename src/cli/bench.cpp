@@ -57,6 +57,7 @@ struct Row {
   double punchPixels = 0, segmentPixels = 0;
   double punchReshaded = 0, segmentReshaded = 0;  // of their centre rays, shaded at kept hits (mean)
   double opsPerEval = 0, stepsPerRay = 0, evalsPerRay = 0;
+  double laneShare = 0;  // of a full frame's rays, those whose walk went into SIMD lanes
   double baselineMs = 0;  // the baseline's frames interleaved with this piece's (median)
   double exactOpsPerEval = 0, exactWindowMs = 0;
   double naiveWindowMs = 0, fieldWindowMs = 0, naiveFullEstimateMs = 0;
@@ -186,6 +187,7 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
   row.opsPerEval = st.meanOpsPerEvaluation();
   row.stepsPerRay = st.meanStepsPerRay();
   row.evalsPerRay = st.meanEvaluationsPerRay();
+  row.laneShare = st.rays ? static_cast<double>(st.laneRays) / static_cast<double>(st.rays) : 0.0;
   row.hits = static_cast<long>(st.hits);
 
   // One more stroke, traced as the kiosk does: add, sync, its dirty spans only. Each is
@@ -298,7 +300,10 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
   t += "). region update: the same for a raised region of 24 to 48 points, 6 to 14 mm in radius (the field under it "
        "found a row at a time in " + std::string(simdTargetName()) + " lanes; mean pixels traced: ";
   for (const Row& r : rows) t += r.piece + " " + fmt("%.0f", r.regionPixels) + "; ";
-  t += "). undo: the same after undoing the stroke. ops/eval field: operation kernels evaluated per function evaluation "
+  t += "). steps/ray, evals/ray: a full frame's; of its rays, those whose walk went into " + std::string(simdTargetName()) +
+       " lanes (" + std::to_string(walkLaneCount()) + " rays at once; docs/rendering.md, \"Rays in lanes\"): ";
+  for (const Row& r : rows) t += r.piece + " " + fmt("%.0f", 100.0 * r.laneShare) + " %; ";
+  t += "(the others miss the piece's box, or start inside a window or a set operation's support). undo: the same after undoing the stroke. ops/eval field: operation kernels evaluated per function evaluation "
        "by the field tracer (the displacement field stands for the offsets). index candidates: operations the grid "
        "lists at random points of the piece (what an exact evaluation through the index touches). ops/eval exact "
        "index: kernels per evaluation of the exact tracer through the grid over the window. naive: every operation at every point, timed over a window "
