@@ -63,14 +63,7 @@ int HermiteLanes(const SampleLattice& l, const double* xs, const double* ys, int
     const V fx = hn::Mul(hn::Sub(hn::LoadU(d, xs + k), x0), invS), fy = hn::Mul(hn::Sub(hn::LoadU(d, ys + k), y0), invS);
     V u, w;
     Cells(d, fx, fy, l.nx, l.ny, u, w, first);
-    for (int q = 0; q < lanes; ++q) {
-      const float* r0 = l.samples + static_cast<size_t>(static_cast<uint32_t>(first[q])) * 4;
-      const float* r1 = r0 + static_cast<size_t>(l.nx) * 4;
-      for (int c = 0; c < 4; ++c) {
-        t[c][q] = r0[c], t[4 + c][q] = r0[4 + c];
-        t[8 + c][q] = r1[c], t[12 + c][q] = r1[4 + c];
-      }
-    }
+    ReadCorners(l, first, static_cast<size_t>(lanes), t);
     // (Fields named one by one: SVE's sizeless vectors cannot be array elements.)
     const V d00 = hn::LoadU(d, t[0]), x00 = hn::LoadU(d, t[1]), y00 = hn::LoadU(d, t[2]), t00 = hn::LoadU(d, t[3]);
     const V d10 = hn::LoadU(d, t[4]), x10 = hn::LoadU(d, t[5]), y10 = hn::LoadU(d, t[6]), t10 = hn::LoadU(d, t[7]);

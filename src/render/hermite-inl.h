@@ -9,9 +9,11 @@
 #define EMBOSS_RENDER_HERMITE_INL_H_
 #endif
 
+#include <cstddef>
 #include <cstdint>
 
 #include "hwy/highway.h"
+#include "render/field_lanes.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace emboss {
@@ -29,6 +31,20 @@ HWY_INLINE void Cells(D d, V fx, V fy, int nx, int ny, V& u, V& w, int32_t* firs
   const auto j = hn::Min(hn::Max(hn::DemoteTo(di, fy), zero), hn::Set(di, ny - 2));
   u = hn::Sub(fx, hn::PromoteTo(d, i)), w = hn::Sub(fy, hn::PromoteTo(d, j));
   hn::StoreU(hn::Add(hn::Mul(j, hn::Set(di, nx)), i), di, first);
+}
+
+// The four corners' samples (00, 10, 01, 11) of each lane's cell, four floats each (d, dD/dx,
+// dD/dy, twist), read lane by lane into c[0..15][lane] (first[lane]: the cell's first sample).
+template <class T, size_t kLanes>
+HWY_INLINE void ReadCorners(const SampleLattice& l, const int32_t* first, size_t lanes, T (*c)[kLanes]) {
+  for (size_t k = 0; k < lanes; ++k) {
+    const float* r0 = l.samples + static_cast<size_t>(static_cast<uint32_t>(first[k])) * 4;
+    const float* r1 = r0 + static_cast<size_t>(l.nx) * 4;
+    for (int m = 0; m < 4; ++m) {
+      c[m][k] = r0[m], c[4 + m][k] = r0[4 + m];
+      c[8 + m][k] = r1[m], c[12 + m][k] = r1[4 + m];
+    }
+  }
 }
 
 // The bicubic Hermite basis at u, and its derivative (height_field.cpp's basis() and

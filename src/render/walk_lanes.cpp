@@ -68,14 +68,7 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   // The four corners' samples (00, 10, 01, 11), four floats each, read lane by lane.
   const hn::Rebind<float, WalkTag> df;
   HWY_ALIGN float c[16][kMaxWalkLanes];
-  for (size_t k = 0; k < lanes; ++k) {
-    const float* r0 = l.samples + static_cast<size_t>(static_cast<uint32_t>(first[k])) * 4;
-    const float* r1 = r0 + static_cast<size_t>(l.nx) * 4;
-    for (int m = 0; m < 4; ++m) {
-      c[m][k] = r0[m], c[4 + m][k] = r0[4 + m];
-      c[8 + m][k] = r1[m], c[12 + m][k] = r1[4 + m];
-    }
-  }
+  ReadCorners(l, first, lanes, c);
   auto at = [&](int m) { return hn::PromoteTo(d, hn::Load(df, c[m])); };
   V D;
   {
@@ -151,9 +144,9 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
     // D's slopes over the stretch (HeightField::bound()): a box inside one leaf of the pyramid
     // reads that leaf, here; any other box the pyramid, a lane at a time.
     const hn::Rebind<int32_t, WalkTag> di;
-    auto leaf = [&](V x, double origin, int n) {
+    auto leaf = [&](V x, double origin, int samples) {
       const auto cell = hn::DemoteTo(di, hn::Mul(hn::Sub(x, hn::Set(d, origin)), hn::Set(d, l.invS)));
-      return hn::ShiftRight<3>(hn::Min(hn::Max(cell, hn::Zero(di)), hn::Set(di, n - 2)));
+      return hn::ShiftRight<3>(hn::Min(hn::Max(cell, hn::Zero(di)), hn::Set(di, samples - 2)));
     };
     const auto i0 = leaf(bx0, l.x0, l.nx), i1 = leaf(bx1, l.x0, l.nx);
     const auto j0 = leaf(by0, l.y0, l.ny), j1 = leaf(by1, l.y0, l.ny);
@@ -163,12 +156,12 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
     hn::Store(hn::IfThenElse(hn::And(hn::Eq(i0, i1), hn::Eq(j0, j1)), hn::Add(hn::Mul(j0, hn::Set(di, leafWidth)), i0),
                              hn::Set(di, -1)),
               di, oneLeaf);
-    HWY_ALIGN double box[4][kMaxWalkLanes], stepping[kMaxWalkLanes];
+    HWY_ALIGN double box[4][kMaxWalkLanes], goes[kMaxWalkLanes];
     hn::Store(bx0, d, box[0]), hn::Store(by0, d, box[1]), hn::Store(bx1, d, box[2]), hn::Store(by1, d, box[3]);
-    hn::Store(hn::IfThenElseZero(go, one), d, stepping);
+    hn::Store(hn::IfThenElseZero(go, one), d, goes);
     HWY_ALIGN double g[4][kMaxWalkLanes];
     for (size_t k = 0; k < lanes; ++k) {
-      if (stepping[k] == 0.0) {
+      if (goes[k] == 0.0) {
         g[0][k] = g[1][k] = g[2][k] = g[3][k] = 0.0;
       } else if (oneLeaf[k] >= 0) {
         const float* node = leaves + static_cast<size_t>(oneLeaf[k]) * 6;  // lo, hi, gxlo, gxhi, gylo, gyhi

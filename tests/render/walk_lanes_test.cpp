@@ -84,34 +84,33 @@ void expectSameWithAndWithoutLanes(const Model& model, const CameraSpec& base, c
   }
 }
 
+// A generated piece with `setOps` random set operations on top, with and without the lanes.
+void expectPiece(const PieceOptions& opt, int operations, unsigned seed, int setOps, const std::string& what) {
+  const GeneratedPiece piece = generatePiece(operations, seed, opt);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  PieceRandom rng(5);
+  for (int k = 0; k < setOps; ++k) ASSERT_TRUE(model->add(randomSetOperation(rng, piece, opt.toolScale)).ok());
+  expectSameWithAndWithoutLanes(*model, piece.camera, what);
+}
+
 TEST(WalkLanes, APlateGivesTheSameBytesAsEveryWalkAlone) {
   PieceOptions opt;
   opt.width = 120, opt.height = 80, opt.toolScale = 1.5;
-  const GeneratedPiece piece = generatePiece(300, 41, opt);
-  auto model = piece.makeModel();
-  ASSERT_TRUE(model.ok()) << model.error();
-  expectSameWithAndWithoutLanes(*model, piece.camera, "plate");
+  expectPiece(opt, 300, 41, 0, "plate");
 }
 
 TEST(WalkLanes, ADiscGivesTheSameBytesAsEveryWalkAlone) {
   PieceOptions opt;
   opt.shape = PieceShape::Disc, opt.width = opt.height = 90, opt.toolScale = 1.2;
-  const GeneratedPiece piece = generatePiece(300, 42, opt);
-  auto model = piece.makeModel();
-  ASSERT_TRUE(model.ok()) << model.error();
-  expectSameWithAndWithoutLanes(*model, piece.camera, "disc");
+  expectPiece(opt, 300, 42, 0, "disc");
 }
 
 // Set operations: a lane stops before a ray's (x, y) can enter one's support, and at its window.
 TEST(WalkLanes, SetOperationsGiveTheSameBytesAsEveryWalkAlone) {
   PieceOptions opt;
   opt.width = 80, opt.height = 60, opt.toolScale = 2.0;
-  const GeneratedPiece piece = generatePiece(120, 43, opt);
-  auto model = piece.makeModel();
-  ASSERT_TRUE(model.ok()) << model.error();
-  PieceRandom rng(5);
-  for (int k = 0; k < 4; ++k) ASSERT_TRUE(model->add(randomSetOperation(rng, piece, 2.0)).ok());
-  expectSameWithAndWithoutLanes(*model, piece.camera, "plate with set operations");
+  expectPiece(opt, 120, 43, 4, "plate with set operations");
 }
 
 // An outline sheet (an imported vm medallion, W the slab or its column's bound where those decide
