@@ -223,13 +223,10 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
   return len > 0 ? n / len : glm::dvec3(0, 0, 1);
 }
 
-// (beginWalk() and endWalk() are inlined into traceField(), below: called there, the two halves
-// took 7 % longer than the whole on the vm medallion. The lanes' driver calls them.)
-[[gnu::always_inline]] bool Renderer::beginWalk(double sx, double sy, RenderStats& st,
-                                                std::vector<const SetOp*>& rayOps, Walk& walk,
-                                                int startRefinements) const {
-  // (The ray and h8 in locals here and in endWalk(): read through `walk` they are read again
-  // after every call, 7 % more time a walk on the vm medallion.)
+bool Renderer::beginWalk(double sx, double sy, RenderStats& st, std::vector<const SetOp*>& rayOps, Walk& walk,
+                         int startRefinements) const {
+  // (The ray and h8 in locals here and in endWalk(), as traceField() had them whole: read through
+  // `walk` they would be read again after every call.)
   const Ray ray = camera_->rayAt(sx, sy);
   walk.ray = ray;
   ++st.rays;
@@ -365,9 +362,8 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
   return true;
 }
 
-[[gnu::always_inline]] std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st,
-                                                                      std::vector<std::uint32_t>& scratch,
-                                                                      bool normal) const {
+std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                                               bool normal) const {
   const Ray ray = walk.ray;
   const RayContext& rc = walk.rc;
   const double h8 = walk.h8;
