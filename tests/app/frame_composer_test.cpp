@@ -271,10 +271,13 @@ TEST(FrameComposer, ACoarsePictureGoesCoarserWhereTheLastOneCostTooMuch) {
   auto& [pool, fc, m, home, sh] = t;
   constexpr int w = PlateOnScreen::w, h = PlateOnScreen::h;
   std::vector<Rect> changed;
-  fc.setDirtyBudget(0.05);  // any coarse picture costs more than this
+  // Ten microseconds, the least dirty budget too: any coarse picture costs far more than this.
+  // (With the least dirty budget at its default, 1 ms, a picture at scale 15 cost less than that
+  // once rays walked in SIMD lanes, and the second picture stopped at 15 on a quiet machine.)
+  fc.setDirtyBudget(0.01);
   fc.setFieldBandMs(0);
   // (none stops at its budget: its scale is the one the last picture's cost chose)
-  fc.setLeastBudgets(FrameComposer::kMinDirtyMs, 1e9);
+  fc.setLeastBudgets(0.01, 1e9);
   const auto coarseRays = [&](const Operation& op) {
     const std::uint64_t before = fc.counters().render.rays, coarseBefore = fc.counters().coarseRects;
     EXPECT_TRUE(m.add(op));
