@@ -60,9 +60,9 @@ struct RenderOptions {
   // the cavity term, a patina stroke) is shaded again at the hit kept from its last trace instead
   // of traced (false: every ray traced; the same picture, slower; for comparison).
   bool reuseHits = true;
-  // Field tracer, plates and discs: a row's centre rays walk several at once in SIMD lanes where
-  // their walks are plain Lipschitz steps (walk_lanes.h) (false: every ray alone; the same
-  // picture, slower; for comparison).
+  // Field tracer, plates, discs and outline sheets: a row's rays walk several at once in SIMD lanes
+  // where their walks are plain Lipschitz steps (walk_lanes.h), and their normals are found in
+  // lanes (false: every ray alone; the same picture, slower; for comparison).
   bool walkLanes = true;
   // Field tracer: an appended raised region over more than kFieldBandMinSamples field samples
   // (the one offset that comes whole, when its contour closes, and the biggest; a stroke's live
@@ -304,20 +304,20 @@ class Renderer {
   // as far as they can be (walk_lanes.h): the same hits.
   void findFieldHits(const double* xs, const double* ys, int count, const Rect& reach, RenderStats& st,
                      std::vector<std::uint32_t>& scratch, double* kept, bool reuse, std::optional<Hit>* out) const;
-  // fieldNormal() at n hits with D and its slopes there, in lanes (sheetNormalLanes()) for a plate
-  // or a disc: done[k] says whether (nx, ny, nz)[k] was found (else the caller calls
+  // fieldNormal() at n hits with D and its slopes there, in lanes (sheetNormalLanes()) for a plate,
+  // a disc or an outline sheet's slab: done[k] says whether (nx, ny, nz)[k] was found (else the caller calls
   // fieldNormal()). Counts the evaluations.
   void sheetNormals(const double* x, const double* y, const double* z, const double* dv, const double* dgx,
                     const double* dgy, int n, double* nx, double* ny, double* nz, bool* done, RenderStats& st) const;
   // Whether the field tracer's walks and normals go into SIMD lanes (RenderOptions::walkLanes,
-  // plates and discs, where SIMD has two lanes or more).
+  // plates, discs and outline sheets, where SIMD has two lanes or more).
   bool walksInLanes() const;
-  // The sheet as the lanes read it (walk_lanes.h): plates and discs.
+  // The sheet as the lanes read it (walk_lanes.h).
   WalkSheet walkSheet() const;
   // Whether a set-up walk can go into the lanes: after the skips it starts with (which it takes),
-  // a plain walk step (no window, no set operation's support, the slope bound known); `end` gets
-  // the point where the lane is to stop.
-  bool walkFitsLanes(Walk& walk, RenderStats& st, long& end) const;
+  // a plain walk step (no window, no set operation's support, the slope bound known); `window`
+  // gets the next window's first point, `end` the point where the lane is to stop.
+  bool walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& end) const;
   // The linear colour of the ray through (sx, sy) where it hits (normal gets the hit's unit
   // normal), nothing where it misses (normal gets zero): findHit() shaded.
   std::optional<glm::dvec3> shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,

@@ -238,7 +238,7 @@ bool Renderer::beginWalk(double sx, double sy, RenderStats& st, std::vector<cons
   const long q0 = kSubdivisions * floorToLong(t0 / h);
   const long q1 = kSubdivisions * ceilToLong(t1 / h);
   walk.q0 = q0, walk.q1 = q1;
-  auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };  // Walk::at()
+  auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };
 
   RayContext& rc = walk.rc;  // (its lists' arrays are read only up to their counts)
   rc.setOps = nullptr, rc.setOpCount = 0, rc.dense = false, rc.lipschitz = false, rc.lf = 0.0;
@@ -357,7 +357,6 @@ bool Renderer::beginWalk(double sx, double sy, RenderStats& st, std::vector<cons
   walk.prevQ = q0 - 2;
   walk.prevF = -1.0;
   walk.shortSteps = 0;
-  walk.failedUntil[0] = walk.failedUntil[1] = q0 - 1;
   walk.invStepH8 = 1.0 / (kStepRate * h8), walk.invRayH8 = 1.0 / (rc.lf * h8);
   return true;
 }
@@ -369,7 +368,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   const double h8 = walk.h8;
   const long q0 = walk.q0, q1 = walk.q1;
   const Box2 dom = field_.domain();
-  auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };  // Walk::at()
+  auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };  // (as beginWalk's)
 
   // f at grid point q, and the value its Lipschitz bound holds for.
   struct Val {
@@ -422,7 +421,9 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   long prevQ = walk.prevQ;  // the last point evaluated before q, and its value
   double prevF = walk.prevF;
   int shortSteps = walk.shortSteps;
-  long failedUntil[2] = {walk.failedUntil[0], walk.failedUntil[1]};
+  // Inside windows: the stretches whose interval tests failed (none yet: a walk comes here from its
+  // start or from the lanes, which never enter a window).
+  long failedUntil[2] = {q0 - 1, q0 - 1};
   // Of a step's quotients (below), the two whose divisors are fixed for the ray are products with
   // these reciprocals (Walk): a division is the slowest link of the step's chain.
   const double invStepH8 = walk.invStepH8, invRayH8 = walk.invRayH8;

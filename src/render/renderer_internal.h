@@ -185,9 +185,7 @@ struct Renderer::Walk {
   long prevQ = 0;      // the last point evaluated before q, and f there
   double prevF = -1.0;
   int shortSteps = 0;  // walk steps in a row shorter than kSubdivisions / 8
-  long failedUntil[2] = {0, 0};  // inside windows: stretches whose interval tests failed
   double invStepH8 = 0.0, invRayH8 = 0.0;  // 1 / (kStepRate h8), 1 / (lf h8)
-  glm::dvec3 at(long k) const { return ray.origin + (static_cast<double>(k) * h8) * ray.dir; }
 };
 
 }  // namespace emboss

@@ -1,5 +1,6 @@
 // The field tracer's centre rays of a row, their walks taken several at once in SIMD lanes
 // (walk_lanes.h) where they are plain Lipschitz steps, each ray set up and finished alone.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -12,7 +13,17 @@ namespace emboss {
 
 using namespace render_internal;
 
-bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& end) const {
+namespace {
+
+// The rays a step of the lanes walks at once here.
+int laneCount() {
+  static const int n = std::min(walkLaneCount(), kMaxWalkLanes);
+  return n;
+}
+
+}  // namespace
+
+bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& end) const {
   const RayContext& rc = walk.rc;
   if (!rc.lipschitz || rc.dense) return false;
   // The walk's first turns while each is a skip (endWalk()'s loop: the same state after them).
@@ -27,7 +38,8 @@ bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& end) const {
   if (walk.q >= walk.q1 || walk.known || rc.inWindow(walk.q, walk.q)) return false;
   // The lane stops at the next window, the next skip, the clip's end, or where the ray's (x, y)
   // may enter a set operation's support (two points early: f there is not the workpiece's alone).
-  end = std::min(walk.q1, rc.nextWindow(walk.q + 1, walk.q1 + 1));
+  window = rc.nextWindow(walk.q + 1, walk.q1 + 1);  // (q is in none: the first after it)
+  end = std::min(walk.q1, window);
   for (int i = 0; i < rc.skips; ++i)
     if (rc.skipLo[i] > walk.q) end = std::min(end, rc.skipLo[i]);
   for (int k = 0; k < rc.setOpCount; ++k) {
@@ -53,8 +65,7 @@ WalkSheet Renderer::walkSheet() const {
 }
 
 bool Renderer::walksInLanes() const {
-  static const int kLanes = walkLaneCount();
-  return options_.walkLanes && kLanes >= 2 && (workpieceKind_ == 1 || workpieceKind_ == 2 || workpieceKind_ == 4) &&
+  return options_.walkLanes && laneCount() >= 2 && (workpieceKind_ == 1 || workpieceKind_ == 2 || workpieceKind_ == 4) &&
          field_.configured();
 }
 
@@ -62,6 +73,10 @@ void Renderer::sheetNormals(const double* x, const double* y, const double* z, c
                             const double* dgy, int n, double* nx, double* ny, double* nz, bool* done,
                             RenderStats& st) const {
   const int inLanes = walksInLanes() ? sheetNormalLanes(walkSheet(), x, y, z, dv, dgx, dgy, n, nx, ny, nz) : 0;
+  if (inLanes == 0) {
+    std::fill_n(done, n, false);
+    return;
+  }
   for (int k = 0; k < n; ++k) {
     // (fieldNormal() reads D from the field inside its domain, and applies the set operations
     // whose support holds the point: those are its own.)
@@ -77,8 +92,7 @@ void Renderer::sheetNormals(const double* x, const double* y, const double* z, c
 void Renderer::findFieldHits(const double* xs, const double* ys, int count, const Rect& reach, RenderStats& st,
                              std::vector<std::uint32_t>& scratch, double* kept, bool reuse,
                              std::optional<Hit>* out) const {
-  static const int kLanes = walkLaneCount();
-  const int lanes = std::min(kLanes, kMaxWalkLanes);
+  const int lanes = laneCount();
   if (!walksInLanes()) {
     for (int i = 0; i < count; ++i)
       out[i] = findHit(xs[i], ys[i], true, reach, st, scratch, kept ? kept + i : nullptr, reuse, false);
@@ -107,17 +121,14 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     record(pointOf[k], endWalk(walk, st, scratch, false));
   };
   // A walk into lane k.
-  auto load = [&](int k, const Walk& walk, long end) {
+  auto load = [&](int k, const Walk& walk, long window, long end) {
     const glm::dvec3 &o = walk.ray.origin, &d = walk.ray.dir;
     lane.ox[k] = o.x, lane.oy[k] = o.y, lane.oz[k] = o.z;
     lane.dx[k] = d.x, lane.dy[k] = d.y, lane.dz[k] = d.z;
     lane.h8[k] = walk.h8;
     lane.invStep[k] = walk.invStepH8, lane.invRay[k] = walk.invRayH8;
     lane.q0[k] = static_cast<double>(walk.q0), lane.q1[k] = static_cast<double>(walk.q1);
-    const RayContext& rc = walk.rc;
-    // The next window (q is in none: the first after it).
-    lane.window[k] = static_cast<double>(rc.nextWindow(walk.q + 1, walk.q1 + 1));
-    lane.end[k] = static_cast<double>(end);
+    lane.window[k] = static_cast<double>(window), lane.end[k] = static_cast<double>(end);
     lane.ax[k] = d.x >= 0 ? d.x : 0.0, lane.bx[k] = d.x < 0 ? d.x : 0.0;
     lane.ay[k] = d.y >= 0 ? d.y : 0.0, lane.by[k] = d.y < 0 ? d.y : 0.0;
     lane.side[k] = workpieceKind_ == 1   ? std::max(std::abs(d.x), std::abs(d.y))
@@ -146,12 +157,12 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
           record(i, std::nullopt);
           continue;
         }
-        long end = 0;
-        if (!walkFitsLanes(walk, st, end)) {
+        long window = 0, end = 0;
+        if (!walkFitsLanes(walk, st, window, end)) {
           record(i, endWalk(walk, st, scratch, false));
           continue;
         }
-        load(k, walk, end);
+        load(k, walk, window, end);
         ++st.laneRays;
         pointOf[k] = i;
         ++walking;
