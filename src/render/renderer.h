@@ -178,6 +178,20 @@ class Renderer {
   // For tests: W over a box as the field tracer bounds it (after sync(); outline sheets through
   // their specialised tapes).
   Interval workpieceBound(const P3<Interval>& box) const { return workpieceValue(box); }
+  // For tests: an outline sheet's column bounds of min(O, d) at (x, y) (after sync()): the ones the
+  // walk reads (a sub-cell's where the outline crosses or comes near the block), and its block's.
+  struct ColumnBounds {
+    float lo, hi, blockLo, blockHi;
+    bool sub;  // the block has sub-cells
+  };
+  ColumnBounds columnBoundsAt(double x, double y) const {
+    const ColumnMap& c = columns_;
+    const ColumnMap::Column a = c.at(x, y);
+    const int i = floorToInt((x - c.x0) * c.inv), j = floorToInt((y - c.y0) * c.inv);
+    const ColumnMap::Column b = c.block(i, j);
+    const bool sub = i >= 0 && j >= 0 && i < c.nx && j < c.ny && c.blockTapeOf[static_cast<size_t>(j) * c.nx + i] >= 0;
+    return {a.lo, a.hi, b.lo, b.hi, sub};
+  }
   // The bytes held for the model followed: the height field, the index, the set operations'
   // shift fields.
   size_t memoryBytes() const;
@@ -427,6 +441,9 @@ class Renderer {
     // specialised from their leaf's: blockTape[blockTapeOf[k]] for block k, -1 for none.
     std::vector<VmProgram> blockTape;
     std::vector<std::int32_t> blockTapeOf;
+    // Those blocks' sub-cells' bounds (WalkSheet::Columns: kSub x kSub a block, in the order of
+    // their tapes): the outline's program is wanted only in the sub-cells it crosses or comes near.
+    std::vector<float> subLo, subHi;
     std::vector<std::uint8_t> leafOutside;  // per leaf: 1 when a block of it is outside (hi < 0)
     std::vector<std::uint8_t> leafInside;   // per leaf: 1 when a block of it is not outside
     // Whether some block under the box (mm) is outside, or the box leaves the map.
@@ -439,8 +456,13 @@ class Renderer {
     struct Column {
       float lo, hi;
     };
+    // The bounds at (x, y): its block's, or its sub-cell's where the block has them (view().at()).
     Column at(double x, double y) const;
     Column block(int i, int j) const;
+    // The map as the lanes read it.
+    WalkSheet::Columns view() const {
+      return {x0, y0, inv, nx, ny, lo.data(), hi.data(), blockTapeOf.data(), subLo.data(), subHi.data()};
+    }
     // The program specialised to a box holding (x, y); the whole program beyond the map.
     const VmProgram& tapeAt(double x, double y) const;
     // W over a box: through the tape of the box's block, leaf or region when it lies in one; a

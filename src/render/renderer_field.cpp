@@ -102,13 +102,30 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     if ((i1 - i0 + 1) * (j1 - j0 + 1) > 16) {
       columnsOk = false;
     } else {
+      auto take = [&](const ColumnMap::Column& b) {
+        if (b.hi < 0.0f)
+          anyOutside = true, outsideUpper = std::max(outsideUpper, static_cast<double>(b.hi));
+        else
+          anyInside = true, insideLo = std::min(insideLo, b.lo);
+      };
+      // A block with sub-cells: those under the box (the ones Columns::at() finds for its points).
+      constexpr int kSub = WalkSheet::Columns::kSub;
+      const double u0 = (xy.x0 - c.x0) * c.inv, u1 = (xy.x1 - c.x0) * c.inv;
+      const double v0 = (xy.y0 - c.y0) * c.inv, v1 = (xy.y1 - c.y0) * c.inv;
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
-          const ColumnMap::Column b = c.block(i, j);
-          if (b.hi < 0.0f)
-            anyOutside = true, outsideUpper = std::max(outsideUpper, static_cast<double>(b.hi));
-          else
-            anyInside = true, insideLo = std::min(insideLo, b.lo);
+          const std::int32_t s = i < 0 || j < 0 || i >= c.nx || j >= c.ny ? -1 : c.blockTapeOf[static_cast<size_t>(j) * c.nx + i];
+          if (s < 0) {
+            take(c.block(i, j));
+            continue;
+          }
+          const int si0 = i == i0 ? WalkSheet::Columns::subCell(u0, i) : 0, si1 = i == i1 ? WalkSheet::Columns::subCell(u1, i) : kSub - 1;
+          const int sj0 = j == j0 ? WalkSheet::Columns::subCell(v0, j) : 0, sj1 = j == j1 ? WalkSheet::Columns::subCell(v1, j) : kSub - 1;
+          for (int sj = sj0; sj <= sj1; ++sj)
+            for (int si = si0; si <= si1; ++si) {
+              const size_t k = static_cast<size_t>(s) * (kSub * kSub) + static_cast<size_t>(sj) * kSub + si;
+              take(ColumnMap::Column{c.subLo[k], c.subHi[k]});
+            }
         }
     }
   }

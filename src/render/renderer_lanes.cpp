@@ -59,7 +59,7 @@ WalkSheet Renderer::walkSheet() const {
   if (workpieceKind_ == 4) {
     const ColumnMap& c = columns_;
     sheet.d = c.halfThickness;
-    sheet.columns = {c.x0, c.y0, c.inv, c.nx, c.ny, c.lo.data(), c.hi.data()};
+    sheet.columns = c.view();
   }
   return sheet;
 }

@@ -1,5 +1,7 @@
 // Outline sheets (2D vm workpieces): the column map and the outline's program specialised per
 // column block (renderer.h, docs/rendering.md "Outline sheets").
+#include <array>
+
 #include "render/renderer_internal.h"
 #include "util/portable_math.h"
 
@@ -16,7 +18,8 @@ Renderer::ColumnMap::Column Renderer::ColumnMap::block(int i, int j) const {
 }
 
 Renderer::ColumnMap::Column Renderer::ColumnMap::at(double x, double y) const {
-  return block(floorToInt((x - x0) * inv), floorToInt((y - y0) * inv));
+  const WalkSheet::Columns::Bounds b = view().at(x, y);
+  return {b.lo, b.hi};
 }
 
 const VmProgram& Renderer::ColumnMap::tapeAt(double x, double y) const {
@@ -71,8 +74,8 @@ bool Renderer::ColumnMap::anyOutside(const Box2& xy) const {
 }
 
 size_t Renderer::ColumnMap::memoryBytes() const {
-  size_t n = (lo.size() + hi.size()) * sizeof(float) + blockTapeOf.size() * sizeof(std::int32_t) + leafOutside.size() +
-             leafInside.size();
+  size_t n = (lo.size() + hi.size() + subLo.size() + subHi.size()) * sizeof(float) +
+             blockTapeOf.size() * sizeof(std::int32_t) + leafOutside.size() + leafInside.size();
   for (const auto* tapes : {&leafTape, &regionTape, &blockTape})
     for (const VmProgram& t : *tapes) n += sizeof t + t.memoryBytes();
   return n;
@@ -127,10 +130,9 @@ void Renderer::buildColumns() {
                             Interval((c.y0 + j0 * c.size - hair) * toModel, (c.y0 + j1 * c.size + hair) * toModel),
                             Interval(0.0));
   };
-  // O over the block, then min(O, d) (what W is at z' = 0) with a margin for the rounding.
-  auto bounds = [&](const VmProgram& tape, int i0, int j0, int i1, int j1) {
-    const Interval o = w.outline(tape, Interval(c.x0 + i0 * c.size, c.x0 + i1 * c.size),
-                                 Interval(c.y0 + j0 * c.size, c.y0 + j1 * c.size));
+  // O over a box, then min(O, d) (what W is at z' = 0) with a margin for the rounding.
+  auto boundsOver = [&](const VmProgram& tape, const Interval& x, const Interval& y) {
+    const Interval o = w.outline(tape, x, y);
     const Interval v = min(o, Interval(d));
     const double m = 1e-9 * (1.0 + std::abs(o.lo) + std::abs(v.hi));
     float lo = std::nextafter(static_cast<float>(v.lo - m), -inf);
@@ -139,13 +141,51 @@ void Renderer::buildColumns() {
     if (o.lo >= d + m) lo = static_cast<float>(2 * d);  // inside: the slab always applies
     return ColumnMap::Column{lo, hi};
   };
+  // The same over blocks i0..i1 - 1, j0..j1 - 1.
+  auto bounds = [&](const VmProgram& tape, int i0, int j0, int i1, int j1) {
+    return boundsOver(tape, Interval(c.x0 + i0 * c.size, c.x0 + i1 * c.size), Interval(c.y0 + j0 * c.size, c.y0 + j1 * c.size));
+  };
   auto decided = [&](const ColumnMap::Column& b) { return b.hi < 0.0f || b.lo >= static_cast<float>(d); };
+  // A block's sub-cells (WalkSheet::Columns): each over its box grown by the hair, which holds
+  // every point Columns::at() finds in it whatever the rounding.
+  constexpr int kSub = WalkSheet::Columns::kSub;
+  using SubBounds = std::array<ColumnMap::Column, kSub * kSub>;
+  // Found by quarters: a square of sub-cells whose bounds decide W gives them to all its
+  // sub-cells, any other is cut in four. A square's bounds are intersected with those of the
+  // square it was cut from (the block's at the top), which hold there too.
+  auto subBounds = [&](const VmProgram& tape, int i, int j, const ColumnMap::Column& block) {
+    SubBounds out;
+    const double s = c.size / kSub;
+    auto square = [&](auto& self, int si, int sj, int n, const ColumnMap::Column& outer) -> void {
+      const double xa = c.x0 + i * c.size + si * s, ya = c.y0 + j * c.size + sj * s;
+      ColumnMap::Column b = boundsOver(tape, Interval(xa - hair, xa + n * s + hair), Interval(ya - hair, ya + n * s + hair));
+      b.lo = std::max(b.lo, outer.lo), b.hi = std::min(b.hi, outer.hi);
+      if (b.hi < 0.0f) b.lo = -inf;
+      if (n == 1 || decided(b)) {
+        for (int y = sj; y < sj + n; ++y)
+          for (int x = si; x < si + n; ++x) out[static_cast<size_t>(y) * kSub + x] = b;
+        return;
+      }
+      const int h = n / 2;
+      for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) self(self, si + x * h, sj + y * h, h, b);
+    };
+    const int h = kSub / 2;
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x) square(square, x * h, y * h, h, block);
+    return out;
+  };
   c.blockTapeOf.assign(c.lo.size(), -1);
   c.leafOutside.assign(c.leafTape.size(), 0);
   c.leafInside.assign(c.leafTape.size(), 0);
   c.blockTape.clear();
-  // Each region's block tapes, gathered after: (block, tape).
-  std::vector<std::vector<std::pair<size_t, VmProgram>>> regionBlocks(static_cast<size_t>(c.regionsX) * c.regionsY);
+  // Each region's block tapes and sub-cells, gathered after.
+  struct BlockTape {
+    size_t k;
+    VmProgram tape;
+    SubBounds sub;
+  };
+  std::vector<std::vector<BlockTape>> regionBlocks(static_cast<size_t>(c.regionsX) * c.regionsY);
   const Rect regions{0, 0, c.regionsX, c.regionsY};
   pool_.parallelFor2D(regions, 1, [&](const Rect& t) {
     const int ra = t.x, rb = t.y;
@@ -172,7 +212,8 @@ void Renderer::buildColumns() {
             if (!decided(col)) {
               VmProgram block = specialise(leaf, i, j, i + 1, j + 1);
               block.dropNodes();
-              regionBlocks[static_cast<size_t>(rb) * c.regionsX + ra].emplace_back(k, std::move(block));
+              SubBounds sub = subBounds(block, i, j, col);
+              regionBlocks[static_cast<size_t>(rb) * c.regionsX + ra].push_back(BlockTape{k, std::move(block), sub});
             }
           }
         leaf.dropNodes();
@@ -181,10 +222,12 @@ void Renderer::buildColumns() {
     c.regionTape[static_cast<size_t>(rb) * c.regionsX + ra] = std::move(region);
   });
   outlineMaskKey_.clear();  // the mask follows the new map
+  c.subLo.clear(), c.subHi.clear();
   for (auto& blocks : regionBlocks)
-    for (auto& [k, tape] : blocks) {
-      c.blockTapeOf[k] = static_cast<std::int32_t>(c.blockTape.size());
-      c.blockTape.push_back(std::move(tape));
+    for (BlockTape& b : blocks) {
+      c.blockTapeOf[b.k] = static_cast<std::int32_t>(c.blockTape.size());
+      c.blockTape.push_back(std::move(b.tape));
+      for (const ColumnMap::Column& s : b.sub) c.subLo.push_back(s.lo), c.subHi.push_back(s.hi);
     }
 }
 

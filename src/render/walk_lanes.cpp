@@ -96,18 +96,11 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
     // the ray's own walk's.
     const V slab = hn::Sub(T, hn::Abs(hn::Sub(pz, D)));
     const WalkSheet::Columns& c = sheet.columns;
-    const hn::Rebind<int32_t, WalkTag> di;
-    const auto bi = hn::DemoteTo(di, hn::Floor(hn::Mul(hn::Sub(px, hn::Set(d, c.x0)), hn::Set(d, c.inv))));
-    const auto bj = hn::DemoteTo(di, hn::Floor(hn::Mul(hn::Sub(py, hn::Set(d, c.y0)), hn::Set(d, c.inv))));
-    const auto inMap = hn::And(hn::And(hn::Gt(bi, hn::Set(di, -1)), hn::Gt(bj, hn::Set(di, -1))),
-                               hn::And(hn::Lt(bi, hn::Set(di, c.nx)), hn::Lt(bj, hn::Set(di, c.ny))));
-    HWY_ALIGN int32_t block[kMaxWalkLanes];
-    hn::Store(hn::IfThenElse(inMap, hn::Add(hn::Mul(bj, hn::Set(di, c.nx)), bi), hn::Set(di, -1)), di, block);
-    HWY_ALIGN double colLo[kMaxWalkLanes], colHi[kMaxWalkLanes];
+    HWY_ALIGN double xs[kMaxWalkLanes], ys[kMaxWalkLanes], colLo[kMaxWalkLanes], colHi[kMaxWalkLanes];
+    hn::Store(px, d, xs), hn::Store(py, d, ys);
     for (size_t k = 0; k < lanes; ++k) {
-      const bool in = block[k] >= 0;  // beyond the map: ColumnMap::block()'s (-inf, -1)
-      colLo[k] = in ? c.lo[block[k]] : -std::numeric_limits<float>::infinity();
-      colHi[k] = in ? c.hi[block[k]] : -1.0f;
+      const WalkSheet::Columns::Bounds b = c.at(xs[k], ys[k]);  // (the scalar walk's own lookup)
+      colLo[k] = b.lo, colHi[k] = b.hi;
     }
     const V lo = hn::Load(d, colLo), hi = hn::Load(d, colHi);
     const auto isSlab = hn::Le(slab, lo), isHi = hn::AndNot(isSlab, hn::Lt(hi, zero));

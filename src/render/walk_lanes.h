@@ -7,10 +7,14 @@
 // (docs/rendering.md, "Rays in lanes"; tests/render/walk_lanes_test.cpp).
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "frep/box.h"
 #include "render/field_lanes.h"
+#include "util/portable_math.h"
 
 namespace emboss {
 
@@ -29,11 +33,34 @@ struct WalkSheet {
   int kind = 1;
   double w = 0, h = 0, d = 0;
   // Outline sheets: the column map (Renderer::ColumnMap), nx x ny blocks of `size` from (x0, y0).
+  // A block the outline crosses or comes near (subOf[k] = s >= 0) has kSub x kSub sub-cells of
+  // their own bounds, at subLo / subHi[s * kSub * kSub + sj * kSub + si].
   struct Columns {
+    static constexpr int kSub = 8;
     double x0 = 0, y0 = 0, inv = 1;
     int nx = 0, ny = 0;
     const float* lo = nullptr;
     const float* hi = nullptr;
+    const std::int32_t* subOf = nullptr;
+    const float* subLo = nullptr;
+    const float* subHi = nullptr;
+    struct Bounds {
+      float lo, hi;
+    };
+    // The bounds at (x, y): its sub-cell's where its block has them, else its block's; beyond the
+    // map (-inf, -1) (W < 0 there). The one lookup of the scalar walk and the lanes.
+    Bounds at(double x, double y) const {
+      const double u = (x - x0) * inv, v = (y - y0) * inv;
+      const int i = floorToInt(u), j = floorToInt(v);
+      if (i < 0 || j < 0 || i >= nx || j >= ny) return {-std::numeric_limits<float>::infinity(), -1.0f};
+      const size_t k = static_cast<size_t>(j) * nx + i;
+      const std::int32_t s = subOf ? subOf[k] : -1;
+      if (s < 0) return {lo[k], hi[k]};
+      const size_t c = static_cast<size_t>(s) * (kSub * kSub) + static_cast<size_t>(subCell(v, j)) * kSub + subCell(u, i);
+      return {subLo[c], subHi[c]};
+    }
+    // The sub-cell along one axis of a point at u blocks from the map's origin in block i.
+    static int subCell(double u, int i) { return std::clamp(floorToInt((u - i) * kSub), 0, kSub - 1); }
   } columns;
 };
 

@@ -57,6 +57,48 @@ TEST(OutlineTapes, ThePictureIsTheWholeProgramsByteForByte) {
   }
 }
 
+// Where the outline crosses or comes near a column block, the block's sub-cells have bounds of
+// their own: min(O, d) at every point lies within its sub-cell's (W at z' = 0), which are never
+// wider than the block's, and many sub-cells decide W (outside, or the slab) where their block
+// does not, so the walk needs the outline's program only in the sub-cells the outline crosses.
+TEST(OutlineTapes, SubCellsBoundTheOutlineAndDecideWhereTheirBlockDoesNot) {
+  auto outline = generateOutlinePiece(900, 4, 30.0, 0.5, 40, 4, false);
+  ASSERT_TRUE(outline.ok()) << outline.error();
+  const GeneratedPiece& piece = *outline;
+  Model model(piece.workpiece, piece.deformation);
+  ThreadPool pool(2);
+  Renderer r(pool);
+  r.setCamera(Camera(piece.camera, 160, 120));
+  r.sync(model);
+  const Workpiece& w = model.workpiece();
+  const Box3 b = w.bounds();
+  const double d = w.halfThickness();
+  PieceRandom rng(23);
+  int inSub = 0, decidedBySub = 0;
+  for (int i = 0; i < 200000 && inSub < 4000; ++i) {
+    const double x = rng.uniform(b.x0 - 1.0, b.x1 + 1.0), y = rng.uniform(b.y0 - 1.0, b.y1 + 1.0);
+    const Renderer::ColumnBounds c = r.columnBoundsAt(x, y);
+    const double v = w.value(P3<double>{x, y, 0.0});  // min(O, d)
+    const double eps = 1e-9 * (1.0 + std::abs(v));
+    // The conventions of both: hi < 0 outside (lo then -inf); lo = 2d where O >= d.
+    ASSERT_LE(v, c.hi + eps) << x << ", " << y;
+    ASSERT_GE(v, std::min<double>(c.lo, d) - eps) << x << ", " << y;
+    if (!c.sub) {
+      ASSERT_EQ(c.lo, c.blockLo);
+      ASSERT_EQ(c.hi, c.blockHi);
+      continue;
+    }
+    ++inSub;
+    ASSERT_LE(c.hi, c.blockHi);
+    if (c.hi >= 0.0f) ASSERT_GE(c.lo, c.blockLo);  // (an outside sub-cell's lo is -inf)
+    const bool blockDecides = c.blockHi < 0.0f || c.blockLo >= static_cast<float>(d);
+    EXPECT_FALSE(blockDecides) << "only blocks the outline crosses or comes near have sub-cells";
+    decidedBySub += c.hi < 0.0f || c.lo >= static_cast<float>(d);
+  }
+  EXPECT_GE(inSub, 1000) << "the medallion's outline should cross many blocks";
+  EXPECT_GT(decidedBySub, inSub / 4) << "sub-cells should decide W at many points their block leaves open";
+}
+
 // A box across the edges of leaves or regions is bounded by the hull of its parts, each through
 // its own cell's tape: every value of W in the box lies within it, and it is never wider than
 // the whole program's interval over the box. (Most random boxes lie where the slab or the outside
