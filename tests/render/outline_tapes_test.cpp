@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include "bench/piece_generator.h"
@@ -30,6 +31,26 @@ Image renderWith(const GeneratedPiece& piece, const Model& model, bool specialis
   r.renderFull(image);
   return image;
 }
+
+// The test's 900-clause medallion (its strokes not added) synced by a renderer of 160 x 120.
+struct SyncedOutline {
+  SyncedOutline() : piece(medallion()), model(piece.workpiece, piece.deformation), renderer(pool) {
+    renderer.setCamera(Camera(piece.camera, 160, 120));
+    renderer.sync(model);
+    bounds = model.workpiece().bounds(), d = model.workpiece().halfThickness();
+  }
+  static GeneratedPiece medallion() {
+    auto outline = generateOutlinePiece(900, 4, 30.0, 0.5, 40, 4, false);
+    if (!outline.ok()) throw std::runtime_error(outline.error());
+    return std::move(*outline);
+  }
+  GeneratedPiece piece;
+  Model model;
+  ThreadPool pool{2};
+  Renderer renderer;
+  Box3 bounds;
+  double d = 0;  // the sheet's half thickness
+};
 
 TEST(OutlineTapes, ThePictureIsTheWholeProgramsByteForByte) {
   for (unsigned seed : {4u, 9u}) {
@@ -62,27 +83,17 @@ TEST(OutlineTapes, ThePictureIsTheWholeProgramsByteForByte) {
 // wider than the block's, and many sub-cells decide W (outside, or the slab) where their block
 // does not, so the walk needs the outline's program only in the sub-cells the outline crosses.
 TEST(OutlineTapes, SubCellsBoundTheOutlineAndDecideWhereTheirBlockDoesNot) {
-  auto outline = generateOutlinePiece(900, 4, 30.0, 0.5, 40, 4, false);
-  ASSERT_TRUE(outline.ok()) << outline.error();
-  const GeneratedPiece& piece = *outline;
-  Model model(piece.workpiece, piece.deformation);
-  ThreadPool pool(2);
-  Renderer r(pool);
-  r.setCamera(Camera(piece.camera, 160, 120));
-  r.sync(model);
-  const Workpiece& w = model.workpiece();
-  const Box3 b = w.bounds();
-  const double d = w.halfThickness();
+  const SyncedOutline m;
   PieceRandom rng(23);
   int inSub = 0, decidedBySub = 0;
   for (int i = 0; i < 200000 && inSub < 4000; ++i) {
-    const double x = rng.uniform(b.x0 - 1.0, b.x1 + 1.0), y = rng.uniform(b.y0 - 1.0, b.y1 + 1.0);
-    const Renderer::ColumnBounds c = r.columnBoundsAt(x, y);
-    const double v = w.value(P3<double>{x, y, 0.0});  // min(O, d)
+    const double x = rng.uniform(m.bounds.x0 - 1.0, m.bounds.x1 + 1.0), y = rng.uniform(m.bounds.y0 - 1.0, m.bounds.y1 + 1.0);
+    const Renderer::ColumnBounds c = m.renderer.columnBoundsAt(x, y);
+    const double v = m.model.workpiece().value(P3<double>{x, y, 0.0});  // min(O, d)
     const double eps = 1e-9 * (1.0 + std::abs(v));
     // The conventions of both: hi < 0 outside (lo then -inf); lo = 2d where O >= d.
     ASSERT_LE(v, c.hi + eps) << x << ", " << y;
-    ASSERT_GE(v, std::min<double>(c.lo, d) - eps) << x << ", " << y;
+    ASSERT_GE(v, std::min<double>(c.lo, m.d) - eps) << x << ", " << y;
     if (!c.sub) {
       ASSERT_EQ(c.lo, c.blockLo);
       ASSERT_EQ(c.hi, c.blockHi);
@@ -90,10 +101,12 @@ TEST(OutlineTapes, SubCellsBoundTheOutlineAndDecideWhereTheirBlockDoesNot) {
     }
     ++inSub;
     ASSERT_LE(c.hi, c.blockHi);
-    if (c.hi >= 0.0f) ASSERT_GE(c.lo, c.blockLo);  // (an outside sub-cell's lo is -inf)
-    const bool blockDecides = c.blockHi < 0.0f || c.blockLo >= static_cast<float>(d);
+    if (c.hi >= 0.0f) {  // (an outside sub-cell's lo is -inf)
+      ASSERT_GE(c.lo, c.blockLo);
+    }
+    const bool blockDecides = c.blockHi < 0.0f || c.blockLo >= static_cast<float>(m.d);
     EXPECT_FALSE(blockDecides) << "only blocks the outline crosses or comes near have sub-cells";
-    decidedBySub += c.hi < 0.0f || c.lo >= static_cast<float>(d);
+    decidedBySub += c.hi < 0.0f || c.lo >= static_cast<float>(m.d);
   }
   EXPECT_GE(inSub, 1000) << "the medallion's outline should cross many blocks";
   EXPECT_GT(decidedBySub, inSub / 4) << "sub-cells should decide W at many points their block leaves open";
@@ -104,17 +117,11 @@ TEST(OutlineTapes, SubCellsBoundTheOutlineAndDecideWhereTheirBlockDoesNot) {
 // the whole program's interval over the box. (Most random boxes lie where the slab or the outside
 // decides W, the same interval either way; the rest are narrower.)
 TEST(OutlineTapes, ABoxAcrossCellsIsBoundedByItsPartsTapes) {
-  auto outline = generateOutlinePiece(900, 4, 30.0, 0.5, 40, 4, false);
-  ASSERT_TRUE(outline.ok()) << outline.error();
-  const GeneratedPiece& piece = *outline;
-  Model model(piece.workpiece, piece.deformation);
-  ThreadPool pool(2);
-  Renderer r(pool);
-  r.setCamera(Camera(piece.camera, 160, 120));
-  r.sync(model);
-  const Workpiece& w = model.workpiece();
-  const Box3 b = w.bounds();
-  const double d = w.halfThickness();
+  const SyncedOutline m;
+  const Renderer& r = m.renderer;
+  const Workpiece& w = m.model.workpiece();
+  const Box3& b = m.bounds;
+  const double d = m.d;
   PieceRandom rng(17);
   int narrower = 0, boxes = 0;
   for (int i = 0; i < 400; ++i) {
