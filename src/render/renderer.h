@@ -189,8 +189,7 @@ class Renderer {
     const ColumnMap::Column a = c.at(x, y);
     const int i = floorToInt((x - c.x0) * c.inv), j = floorToInt((y - c.y0) * c.inv);
     const ColumnMap::Column b = c.block(i, j);
-    const bool sub = i >= 0 && j >= 0 && i < c.nx && j < c.ny && c.blockTapeOf[static_cast<size_t>(j) * c.nx + i] >= 0;
-    return {a.lo, a.hi, b.lo, b.hi, sub};
+    return {a.lo, a.hi, b.lo, b.hi, c.subCellsOf(i, j) >= 0};
   }
   // The bytes held for the model followed: the height field, the index, the set operations'
   // shift fields.
@@ -459,6 +458,11 @@ class Renderer {
     // The bounds at (x, y): its block's, or its sub-cell's where the block has them (view().at()).
     Column at(double x, double y) const;
     Column block(int i, int j) const;
+    // Block (i, j)'s set of sub-cells (its tape's index: WalkSheet::Columns::subIndex), -1 for none
+    // or beyond the map.
+    std::int32_t subCellsOf(int i, int j) const {
+      return i < 0 || j < 0 || i >= nx || j >= ny ? -1 : blockTapeOf[static_cast<size_t>(j) * nx + i];
+    }
     // The map as the lanes read it.
     WalkSheet::Columns view() const {
       return {x0, y0, inv, nx, ny, lo.data(), hi.data(), blockTapeOf.data(), subLo.data(), subHi.data()};

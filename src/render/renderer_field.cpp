@@ -114,7 +114,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
       const double v0 = (xy.y0 - c.y0) * c.inv, v1 = (xy.y1 - c.y0) * c.inv;
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
-          const std::int32_t s = i < 0 || j < 0 || i >= c.nx || j >= c.ny ? -1 : c.blockTapeOf[static_cast<size_t>(j) * c.nx + i];
+          const std::int32_t s = c.subCellsOf(i, j);
           if (s < 0) {
             take(c.block(i, j));
             continue;
@@ -123,7 +123,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
           const int sj0 = j == j0 ? WalkSheet::Columns::subCell(v0, j) : 0, sj1 = j == j1 ? WalkSheet::Columns::subCell(v1, j) : kSub - 1;
           for (int sj = sj0; sj <= sj1; ++sj)
             for (int si = si0; si <= si1; ++si) {
-              const size_t k = static_cast<size_t>(s) * (kSub * kSub) + static_cast<size_t>(sj) * kSub + si;
+              const size_t k = WalkSheet::Columns::subIndex(s, si, sj);
               take(ColumnMap::Column{c.subLo[k], c.subHi[k]});
             }
         }

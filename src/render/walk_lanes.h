@@ -58,8 +58,12 @@ struct WalkSheet {
       const size_t k = static_cast<size_t>(j) * nx + i;
       const std::int32_t s = subOf ? subOf[k] : -1;
       if (s < 0) return {lo[k], hi[k]};
-      const size_t c = static_cast<size_t>(s) * (kSub * kSub) + static_cast<size_t>(subCell(v, j)) * kSub + subCell(u, i);
+      const size_t c = subIndex(s, subCell(u, i), subCell(v, j));
       return {subLo[c], subHi[c]};
+    }
+    // Where sub-cell (si, sj) of the blocks' s-th set of sub-cells is held.
+    static size_t subIndex(std::int32_t s, int si, int sj) {
+      return static_cast<size_t>(s) * (kSub * kSub) + static_cast<size_t>(sj) * kSub + si;
     }
     // The sub-cell along one axis of a point at u blocks from the map's origin in block i.
     static int subCell(double u, int i) { return std::clamp(floorToInt((u - i) * kSub), 0, kSub - 1); }
