@@ -260,11 +260,23 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
   const Box3 b = model.bounds();
   Grid g;
   g.h = h;
-  g.ox = b.x0 - h;
-  g.oy = b.y0 - h;
-  g.oz = b.z0 - h;
-  const auto cells = [&](double lo, double hi) { return static_cast<double>(std::ceil((hi - lo) / h)) + 2.0; };
-  const double cx = cells(b.x0, b.x1), cy = cells(b.y0, b.y1), cz = cells(b.z0, b.z1);
+  // No end of the bounds may lie on a plane of samples: a plate's sides lie on its bounds, and a
+  // wall on a plane has f = 0 at the samples themselves, its vertices crowd against them (kClampT,
+  // 0.003 mm off the wall at a 0.15 mm cell) and the triangles where the relief meets the wall fold
+  // over. Each axis's grid is set so that both ends lie at least a quarter of a cell from its
+  // planes: with the bounds' span phi cells past a whole number, the low end lies delta into its
+  // cell and the high end delta + phi, placed either side of a cell's middle (phi <= 1/2) or of a
+  // plane (phi > 1/2).
+  const auto origin = [&](double lo, double hi) {
+    const double span = (hi - lo) / h, phi = span - std::floor(span);
+    const double delta = phi <= 0.5 ? 0.5 - 0.5 * phi : 1.0 - 0.5 * phi;
+    return lo - (1.0 + delta) * h;
+  };
+  g.ox = origin(b.x0, b.x1);
+  g.oy = origin(b.y0, b.y1);
+  g.oz = origin(b.z0, b.z1);
+  const auto cells = [&](double o, double hi) { return static_cast<double>(std::ceil((hi - o) / h)) + 1.0; };
+  const double cx = cells(g.ox, b.x1), cy = cells(g.oy, b.y1), cz = cells(g.oz, b.z1);
   if (!(cx * cy * cz <= options.maxCells) || !(cx * cy <= options.maxColumns) || cx >= (1 << 20) || cy >= (1 << 20) ||
       cz >= (1 << 18))
   {

@@ -161,6 +161,38 @@ TEST(MeshExport, TheSimplifierMakesNoFoldsOrThinTriangles) {
   EXPECT_NEAR(meshVolume(*mesh), 1200.0, 1200.0 * 0.005);
 }
 
+// A plate whose relief runs into its sides: a punch from the front on one side's middle, one from
+// behind on another, a groove across a corner. The plate's sides lie on its bounds; were they on a
+// plane of the grid's samples (a side 10 mm from the bounds' corner, a cell of 0.1, 0.15 or 0.2 mm),
+// f would be 0 at the samples themselves, the vertices would crowd against them and the fine mesh
+// would fold where the relief meets the side: 31, 28 and 20 fold edges at these three cells, every
+// one on a side. The grid is set so that no end of the bounds lies within a quarter of a cell of
+// its planes: at most one fold edge, and the vertices on the sides lie on them.
+TEST(MeshExport, APlatesSidesLieBetweenTheGridsPlanes) {
+  const Model model = modelOf(R"({"deformation":"sheet","workpiece":{"type":"plate","w":10,"h":8,"d":0.5},
+    "operations":[{"op":"punch","side":"front","a":2,"p":0.6,"q":1.0,"at":[10,0,0.5]},
+                  {"op":"punch","side":"back","a":1.5,"p":0.6,"q":1.0,"at":[-3,8,0.5]},
+                  {"op":"trace","side":"front","a":0.8,"points":[[-12,-3],[-4,-6],[3,-9]]}]})");
+  for (const double cell : {0.1, 0.15, 0.2}) {
+    MeshOptions o;
+    o.threads = 2;
+    o.cell = cell;
+    o.maxError = 0.0;  // the fine mesh, as marching tetrahedra make it
+    auto mesh = meshModel(model, o);
+    ASSERT_TRUE(mesh.ok()) << mesh.error();
+    EXPECT_EQ(checkClosedManifold(*mesh), "");
+    // The vertices nearest the sides lie on them (not a fiftieth of a cell off).
+    float xMax = -1e9f, yMin = 1e9f;
+    for (const auto& v : mesh->vertices) xMax = std::max(xMax, v[0]), yMin = std::min(yMin, v[1]);
+    const size_t folds = foldEdges(*mesh);
+    std::printf("cell %.2f: %zu triangles, %zu fold edges, sides at x %.5f and y %.5f\n", cell, mesh->triangles.size(), folds,
+                xMax, yMin);
+    EXPECT_LE(folds, 1u) << "cell " << cell;
+    EXPECT_NEAR(xMax, 10.0f, 1e-4f) << "cell " << cell;
+    EXPECT_NEAR(yMin, -8.0f, 1e-4f) << "cell " << cell;
+  }
+}
+
 // A flat n x n grid of unit squares in z = 0, two triangles a square, as the indices and positions
 // the mesher's clean-up works on.
 struct FlatGrid {
