@@ -275,6 +275,7 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
   g.ox = origin(b.x0, b.x1);
   g.oy = origin(b.y0, b.y1);
   g.oz = origin(b.z0, b.z1);
+  st.planeX = g.ox, st.planeY = g.oy;
   const auto cells = [&](double o, double hi) { return static_cast<double>(std::ceil((hi - o) / h)) + 1.0; };
   const double cx = cells(g.ox, b.x1), cy = cells(g.oy, b.y1), cz = cells(g.oz, b.z1);
   if (!(cx * cy * cz <= options.maxCells) || !(cx * cy <= options.maxColumns) || cx >= (1 << 20) || cy >= (1 << 20) ||
@@ -379,7 +380,7 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
   report(0.85);
 
   if (options.maxError > 0.0) {
-    st.fineTiles = decimate(mesh, options.maxError, 48.0 * h, pool);
+    st.fineTiles = decimate(mesh, options.maxError, 48.0 * h, g.ox, g.oy, pool);
     const std::string problem =
         options.rejectDecimated ? "rejected" : mesh.triangles.empty() ? "empty" : checkClosedManifold(mesh);
     if (!problem.empty()) {

@@ -45,6 +45,8 @@ struct MeshStats {
   std::size_t vertices = 0;
   bool decimated = false;
   std::size_t fineTiles = 0;  // decimation tiles kept fine (their simplified patch failed the check)
+  // A plane of the grid's samples along x and one along y: the decimation's tiles start on them.
+  double planeX = 0.0, planeY = 0.0;
   std::size_t foldVertices = 0;  // vertices removed to take out folds the decimation left
   std::size_t thinVertices = 0;  // and thin triangles (height under 1/1000 of the longest edge)
   double volume = 0.0;  // mm^3, from the final mesh

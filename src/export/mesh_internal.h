@@ -51,11 +51,12 @@ struct VertexRemovals {
 };
 VertexRemovals removeFoldsAndThinTriangles(std::vector<unsigned int>& ix, size_t& n, const std::vector<float>& pos,
                                            double maxError);
-// Decimates within maxError tile by tile (tile: the first tiles' side, mm) on the pool, keeping
-// fine where a tile's simplification would fold or leave a triangle under 1/1000 (no such flaw is
-// made that the fine mesh had not); returns
-// how many tiles failed their check in the last round (left fine).
-size_t decimate(TriangleMesh& mesh, double maxError, double tile, ThreadPool& pool);
+// Decimates within maxError tile by tile (tile: the first tiles' side, mm, a whole number of the
+// grid's cells; the tiles' edges on the grid's planes through (planeX, planeY)) on the pool,
+// keeping fine where a tile's simplification would fold or leave a triangle under 1/1000 (no such
+// flaw is made that the fine mesh had not); returns how many tiles failed their check in the last
+// round (left fine).
+size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool);
 
 }  // namespace mesh_detail
 }  // namespace emboss

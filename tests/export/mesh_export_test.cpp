@@ -146,11 +146,12 @@ TEST(MeshExport, TheSimplifierMakesNoFoldsOrThinTriangles) {
   o.threads = 2;
   o.cell = 0.15;
   o.maxError = 0.0;  // the fine mesh
-  auto mesh = meshModel(modelOf(kPlate), o);
+  MeshStats st;
+  auto mesh = meshModel(modelOf(kPlate), o, &st);
   ASSERT_TRUE(mesh.ok()) << mesh.error();
   const size_t fine = mesh->triangles.size(), fineFolds = foldEdges(*mesh), fineThin = thinTriangles(*mesh);
   ThreadPool pool(2);
-  mesh_detail::decimate(*mesh, 0.01, 48.0 * 0.15, pool);
+  mesh_detail::decimate(*mesh, 0.01, 48.0 * 0.15, st.planeX, st.planeY, pool);
   EXPECT_EQ(checkClosedManifold(*mesh), "");
   const size_t folds = foldEdges(*mesh), thin = thinTriangles(*mesh);
   std::printf("%zu -> %zu triangles, fold edges %zu -> %zu, thin %zu -> %zu\n", fine, mesh->triangles.size(), fineFolds,
@@ -191,6 +192,30 @@ TEST(MeshExport, APlatesSidesLieBetweenTheGridsPlanes) {
     EXPECT_NEAR(xMax, 10.0f, 1e-4f) << "cell " << cell;
     EXPECT_NEAR(yMin, -8.0f, 1e-4f) << "cell " << cell;
   }
+}
+
+// The decimation's tiles start on the grid's planes (their side is a whole number of cells), so a
+// cell's triangles fall in one tile and only the vertices on a tile's edge are shared: the ring of
+// fine triangles each tile leaves along its edges is as narrow as it can be. Tiles a half cell off
+// the planes cut through cells, whose triangles then fall either side by their centroids. The test
+// plate's fine mesh at 0.15 mm, decimated both ways.
+TEST(MeshExport, TheDecimationsTilesStartOnTheGridsPlanes) {
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.15;
+  o.maxError = 0.0;
+  MeshStats st;
+  auto fine = meshModel(modelOf(kPlate), o, &st);
+  ASSERT_TRUE(fine.ok()) << fine.error();
+  ThreadPool pool(2);
+  TriangleMesh on = *fine, off = *fine;
+  mesh_detail::decimate(on, 0.01, 48.0 * 0.15, st.planeX, st.planeY, pool);
+  mesh_detail::decimate(off, 0.01, 48.0 * 0.15, st.planeX + 0.075, st.planeY + 0.075, pool);
+  EXPECT_EQ(checkClosedManifold(on), "");
+  EXPECT_EQ(checkClosedManifold(off), "");
+  std::printf("%zu fine triangles: %zu with the tiles on the planes, %zu half a cell off\n", fine->triangles.size(),
+              on.triangles.size(), off.triangles.size());
+  EXPECT_LT(on.triangles.size(), off.triangles.size() * 95 / 100);
 }
 
 // A flat n x n grid of unit squares in z = 0, two triangles a square, as the indices and positions
@@ -252,7 +277,7 @@ TEST(MeshExport, TheFineMeshsOwnFoldDoesNotStopTheDecimation) {
   const size_t fine = mesh.triangles.size(), folds = foldEdges(mesh);
   ASSERT_GT(folds, 0u);
   ThreadPool pool(1);
-  mesh_detail::decimate(mesh, 0.001, 100.0, pool);
+  mesh_detail::decimate(mesh, 0.001, 100.0, 0.0, 0.0, pool);
   std::printf("%zu -> %zu triangles, fold edges %zu -> %zu\n", fine, mesh.triangles.size(), folds, foldEdges(mesh));
   EXPECT_LT(mesh.triangles.size(), fine / 2);
   EXPECT_EQ(foldEdges(mesh), folds) << "the fold is the fine mesh's, kept as it was";
