@@ -418,6 +418,84 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
   return true;
 }
 
+// The seams: what the rounds left fine (the rings along the tiles' edges, and the tiles that
+// failed), simplified once more in tiles of the first round's size moved by half a tile, so that
+// the first round's seams cross their middles. A tile's patch is its fine triangles; everything
+// else stays as it is while it is simplified, so its border (the vertices it shares with the
+// simplified patches around it, or with another tile) is locked, and it is checked against the
+// triangles around it as simplifyPatch() checks a patch against its ring. Tiles of one of four
+// colours at a time (by the parity of their column and row), so no two tiles being simplified touch.
+void simplifySeams(const std::vector<std::array<float, 3>>& vertices, std::vector<Tri>& done, std::vector<Tri>& todo,
+                   double maxError, double tile, double planeX, double planeY, ThreadPool& pool) {
+  if (todo.empty()) return;
+  const double ox = planeX + 0.5 * tile, oy = planeY + 0.5 * tile;
+  auto tileOf = [&](const Tri& t, int& i, int& j) {
+    const double cx = (double(vertices[t[0]][0]) + vertices[t[1]][0] + vertices[t[2]][0]) / 3.0;
+    const double cy = (double(vertices[t[0]][1]) + vertices[t[1]][1] + vertices[t[2]][1]) / 3.0;
+    i = static_cast<int>(std::floor((cx - ox) / tile));
+    j = static_cast<int>(std::floor((cy - oy) / tile));
+  };
+  for (int colour = 0; colour < 4; ++colour) {
+    // This colour's tiles, keyed by (column, row); the other fine triangles wait.
+    std::unordered_map<std::uint64_t, std::uint32_t> index;
+    std::vector<std::vector<Tri>> tiles;
+    std::vector<Tri> waiting;
+    for (const Tri& t : todo) {
+      int i, j;
+      tileOf(t, i, j);
+      if ((i & 1) + 2 * (j & 1) != colour) {
+        waiting.push_back(t);
+        continue;
+      }
+      const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(j)) << 32) | static_cast<std::uint32_t>(i);
+      auto [it, fresh] = index.try_emplace(key, static_cast<std::uint32_t>(tiles.size()));
+      if (fresh) tiles.emplace_back();
+      tiles[it->second].push_back(t);
+    }
+    if (tiles.empty()) continue;
+    // Each vertex's tile of this colour (or none), and each tile's ring: the triangles outside it
+    // that use one of its vertices. A tile that touches another of this colour (tiles smaller
+    // than the triangles) is left as it is.
+    constexpr std::uint32_t kNone = UINT32_MAX, kTwo = UINT32_MAX - 1;
+    std::vector<std::uint32_t> tileAt(vertices.size(), kNone);
+    for (std::uint32_t k = 0; k < tiles.size(); ++k)
+      for (const Tri& t : tiles[k])
+        for (std::uint32_t v : t) tileAt[v] = tileAt[v] == kNone || tileAt[v] == k ? k : kTwo;
+    std::vector<std::vector<Tri>> rings(tiles.size());
+    std::vector<std::uint8_t> clash(tiles.size(), 0);
+    auto ringOf = [&](const Tri& t) {
+      std::uint32_t k = kNone;
+      for (std::uint32_t v : t) {
+        if (tileAt[v] == kNone) continue;
+        if (tileAt[v] == kTwo || (k != kNone && k != tileAt[v])) return kTwo;
+        k = tileAt[v];
+      }
+      return k;
+    };
+    for (const auto* list : {&done, &waiting})
+      for (const Tri& t : *list)
+        if (const std::uint32_t k = ringOf(t); k == kTwo) {
+          for (std::uint32_t v : t)
+            if (tileAt[v] < kTwo) clash[tileAt[v]] = 1;
+        } else if (k != kNone) {
+          rings[k].push_back(t);
+        }
+    for (std::uint32_t k = 0; k < tiles.size(); ++k)
+      for (const Tri& t : tiles[k])
+        for (std::uint32_t v : t)
+          if (tileAt[v] == kTwo) clash[k] = 1;
+    pool.parallelFor2D(Rect{0, 0, static_cast<int>(tiles.size()), 1}, 1, [&](const Rect& r) {
+      for (int k = r.x; k < r.x + r.w; ++k) {
+        std::vector<Tri> tris = tiles[static_cast<size_t>(k)];
+        if (!clash[static_cast<size_t>(k)] && simplifyPatch(vertices, tris, rings[static_cast<size_t>(k)], maxError))
+          tiles[static_cast<size_t>(k)] = std::move(tris);
+      }
+    });
+    todo = std::move(waiting);
+    for (const auto& t : tiles) todo.insert(todo.end(), t.begin(), t.end());
+  }
+}
+
 }  // namespace
 
 // Decimates tile by tile (squares in the plate's plane, each triangle in the tile of its
@@ -429,10 +507,12 @@ bool simplifyPatch(const std::vector<std::array<float, 3>>& allVertices, std::ve
 // simplified patch touches a settled vertex in every later round, so it stays fine to the end: the
 // folds a patch is checked for against its ring are the only ones a simplified triangle can make.
 // Returns the number of tiles that failed in the last round.
-size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool) {
+size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool,
+                bool seams) {
   std::vector<std::array<std::uint32_t, 3>> todo = std::move(mesh.triangles), done;
   std::vector<std::uint8_t> settled(mesh.vertices.size(), 0);
   size_t failed = 0;
+  const double firstTile = tile;
   for (int round = 0; round < 4 && !todo.empty(); ++round, tile *= 0.5) {
     float lo[2] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
     float hi[2] = {-lo[0], -lo[1]};
@@ -500,6 +580,7 @@ size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX,
       }
     }
   }
+  if (seams) simplifySeams(mesh.vertices, done, todo, maxError, firstTile, planeX, planeY, pool);
   mesh.triangles = std::move(done);
   mesh.triangles.insert(mesh.triangles.end(), todo.begin(), todo.end());
   compact(mesh);

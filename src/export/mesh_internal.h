@@ -55,8 +55,10 @@ VertexRemovals removeFoldsAndThinTriangles(std::vector<unsigned int>& ix, size_t
 // grid's cells; the tiles' edges on the grid's planes through (planeX, planeY)) on the pool,
 // keeping fine where a tile's simplification would fold or leave a triangle under 1/1000 (no such
 // flaw is made that the fine mesh had not); returns how many tiles failed their check in the last
-// round (left fine).
-size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool);
+// round (left fine). Then the seams: what is left fine simplified again in tiles across the first
+// round's edges (`seams` false: not, for tests).
+size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool,
+                bool seams = true);
 
 }  // namespace mesh_detail
 }  // namespace emboss
