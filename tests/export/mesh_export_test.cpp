@@ -73,6 +73,16 @@ Result<TriangleMesh> decimatedPlate(MeshStats& st) {
   return mesh;
 }
 
+// The test plate's fine mesh at 0.15 mm (no decimation), with the mesher's figures (its grid's
+// planes among them).
+Result<TriangleMesh> finePlate(MeshStats& st) {
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.15;
+  o.maxError = 0.0;
+  return meshModel(modelOf(kPlate), o, &st);
+}
+
 // Triangles whose height is under 1/1000 of their longest edge.
 size_t thinTriangles(const TriangleMesh& mesh) {
   size_t thin = 0;
@@ -142,12 +152,8 @@ TEST(MeshExport, DecimationLeavesNoFoldsOrThinTriangles) {
 // any pass after it: no fold and no thin triangle (without: 25 fold edges and 266 thin
 // triangles), for 2 % more triangles.
 TEST(MeshExport, TheSimplifierMakesNoFoldsOrThinTriangles) {
-  MeshOptions o;
-  o.threads = 2;
-  o.cell = 0.15;
-  o.maxError = 0.0;  // the fine mesh
   MeshStats st;
-  auto mesh = meshModel(modelOf(kPlate), o, &st);
+  auto mesh = finePlate(st);
   ASSERT_TRUE(mesh.ok()) << mesh.error();
   const size_t fine = mesh->triangles.size(), fineFolds = foldEdges(*mesh), fineThin = thinTriangles(*mesh);
   ThreadPool pool(2);
@@ -200,12 +206,8 @@ TEST(MeshExport, APlatesSidesLieBetweenTheGridsPlanes) {
 // the planes cut through cells, whose triangles then fall either side by their centroids. The test
 // plate's fine mesh at 0.15 mm, decimated both ways.
 TEST(MeshExport, TheDecimationsTilesStartOnTheGridsPlanes) {
-  MeshOptions o;
-  o.threads = 2;
-  o.cell = 0.15;
-  o.maxError = 0.0;
   MeshStats st;
-  auto fine = meshModel(modelOf(kPlate), o, &st);
+  auto fine = finePlate(st);
   ASSERT_TRUE(fine.ok()) << fine.error();
   ThreadPool pool(2);
   TriangleMesh on = *fine, off = *fine;
@@ -224,13 +226,8 @@ TEST(MeshExport, TheDecimationsTilesStartOnTheGridsPlanes) {
 // it. The test plate's fine mesh at 0.15 mm, decimated with and without: fewer triangles, still
 // closed and manifold, no fold or thin triangle made, the same volume.
 TEST(MeshExport, TheTilesSeamsAreSimplifiedToo) {
-  MeshOptions o;
-  o.threads = 2;
-  o.cell = 0.15;
-  o.maxError = 0.0;
   MeshStats st;
-  const Model model = modelOf(kPlate);
-  auto fine = meshModel(model, o, &st);
+  auto fine = finePlate(st);
   ASSERT_TRUE(fine.ok()) << fine.error();
   const size_t fineFolds = foldEdges(*fine), fineThin = thinTriangles(*fine);
   ThreadPool pool(2);
