@@ -506,7 +506,9 @@ void simplifySeams(const std::vector<std::array<float, 3>>& vertices, std::vecto
 // (simplifyPatch()), and the rings, go round again in tiles half the size. A ring triangle along a
 // simplified patch touches a settled vertex in every later round, so it stays fine to the end: the
 // folds a patch is checked for against its ring are the only ones a simplified triangle can make.
-// Returns the number of tiles that failed in the last round.
+// Then what the rounds left fine, the rings and the tiles that failed, goes through
+// simplifySeams() (unless `seams` is false). Returns the number of tiles that failed in the last
+// round.
 size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool,
                 bool seams) {
   std::vector<std::array<std::uint32_t, 3>> todo = std::move(mesh.triangles), done;
