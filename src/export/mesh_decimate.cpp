@@ -485,10 +485,10 @@ void simplifySeams(const std::vector<std::array<float, 3>>& vertices, std::vecto
         for (std::uint32_t v : t)
           if (tileAt[v] == kTwo) clash[k] = 1;
     pool.parallelFor2D(Rect{0, 0, static_cast<int>(tiles.size()), 1}, 1, [&](const Rect& r) {
+      // (simplifyPatch() leaves a patch it cannot simplify as it was.)
       for (int k = r.x; k < r.x + r.w; ++k) {
-        std::vector<Tri> tris = tiles[static_cast<size_t>(k)];
-        if (!clash[static_cast<size_t>(k)] && simplifyPatch(vertices, tris, rings[static_cast<size_t>(k)], maxError))
-          tiles[static_cast<size_t>(k)] = std::move(tris);
+        const size_t t = static_cast<size_t>(k);
+        if (!clash[t]) simplifyPatch(vertices, tiles[t], rings[t], maxError);
       }
     });
     todo = std::move(waiting);
