@@ -453,6 +453,23 @@ HeightField::Bound HeightField::bound(const Box2& b) const {
           mn(n00.gylo, n10.gylo, n01.gylo, n11.gylo), mx(n00.gyhi, n10.gyhi, n01.gyhi, n11.gyhi)};
 }
 
+HeightField::Bound HeightField::leafBound(const Box2& b) const {
+  const int a0 = std::clamp(static_cast<int>((b.x0 - x0_) * invS_), 0, nx_ - 2) >> 3;
+  const int a1 = std::clamp(static_cast<int>((b.x1 - x0_) * invS_), 0, nx_ - 2) >> 3;
+  const int b0 = std::clamp(static_cast<int>((b.y0 - y0_) * invS_), 0, ny_ - 2) >> 3;
+  const int b1 = std::clamp(static_cast<int>((b.y1 - y0_) * invS_), 0, ny_ - 2) >> 3;
+  const Level& l = levels_[0];
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo, gxlo = lo, gxhi = hi, gylo = lo, gyhi = hi;
+  for (int j = b0; j <= b1; ++j)
+    for (int i = a0; i <= a1; ++i) {
+      const Node& n = l.nodes[static_cast<size_t>(j) * l.w + i];
+      lo = std::min(lo, n.lo), hi = std::max(hi, n.hi);
+      gxlo = std::min(gxlo, n.gxlo), gxhi = std::max(gxhi, n.gxhi);
+      gylo = std::min(gylo, n.gylo), gyhi = std::max(gyhi, n.gyhi);
+    }
+  return {lo, hi, gxlo, gxhi, gylo, gyhi};
+}
+
 HeightField::Bound HeightField::rootBound() const {
   const Node& n = levels_.back().nodes[0];
   return {n.lo, n.hi, n.gxlo, n.gxhi, n.gylo, n.gyhi};

@@ -142,6 +142,9 @@ class HeightField {
   }
   // Bounds over a box inside domain() (callers check containsBox()).
   Bound bound(const Box2& b) const;
+  // Bounds over a box inside domain() from every leaf under it: tighter than bound() (which reads
+  // at most 2 x 2 nodes of the level where they hold the box), dearer for a wide box.
+  Bound leafBound(const Box2& b) const;
   // Bounds over the whole lattice.
   Bound rootBound() const;
 

@@ -544,7 +544,7 @@ Box3 Renderer::offsetReach(const Box3& wb, const Box2& support, double grow, dou
   HeightField::Bound d = field_.rootBound();
   const Box2 dom = field_.domain();
   const Box2 q{std::max(s.x0, dom.x0), std::max(s.y0, dom.y0), std::min(s.x1, dom.x1), std::min(s.y1, dom.y1)};
-  if (!q.empty()) d = field_.bound(q);
+  if (!q.empty()) d = field_.leafBound(q);
   // Before and after differ by at most the peak.
   Box3 box{s.x0, s.y0, wb.z0 + d.lo - peak - cell, s.x1, s.y1, wb.z1 + d.hi + peak + cell};
   // A set operation's tool moves with the sheet under it: its heights there too.

@@ -197,22 +197,30 @@ TEST(HeightField, BoundsAreConservative) {
   const HeightField& f = p.renderer.field();
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> ux(-50, 50), uy(-35, 35), size(0.0, 3.0), u01(0, 1);
+  int tighter = 0;
   for (int i = 0; i < 3000; ++i) {
     const double x = ux(rng), y = uy(rng);
     const Box2 box{x, y, x + size(rng) * size(rng), y + size(rng) * size(rng)};
-    const HeightField::Bound b = f.bound(box);
-    for (int k = 0; k < 30; ++k) {
-      const double px = box.x0 + u01(rng) * (box.x1 - box.x0), py = box.y0 + u01(rng) * (box.y1 - box.y0);
-      double v, gx, gy;
-      f.valueAndGradient(px, py, v, gx, gy);
-      ASSERT_GE(v, b.lo);
-      ASSERT_LE(v, b.hi);
-      ASSERT_GE(gx, b.gxlo);
-      ASSERT_LE(gx, b.gxhi);
-      ASSERT_GE(gy, b.gylo);
-      ASSERT_LE(gy, b.gyhi);
-    }
+    // The pyramid's bounds, and the leaves' under the box (within them: never looser).
+    const HeightField::Bound coarse = f.bound(box), fine = f.leafBound(box);
+    ASSERT_GE(fine.lo, coarse.lo);
+    ASSERT_LE(fine.hi, coarse.hi);
+    tighter += fine.hi - fine.lo < coarse.hi - coarse.lo;
+    for (const HeightField::Bound& b : {coarse, fine})
+      for (int k = 0; k < 30; ++k) {
+        const double px = box.x0 + u01(rng) * (box.x1 - box.x0), py = box.y0 + u01(rng) * (box.y1 - box.y0);
+        double v, gx, gy;
+        f.valueAndGradient(px, py, v, gx, gy);
+        ASSERT_GE(v, b.lo);
+        ASSERT_LE(v, b.hi);
+        ASSERT_GE(gx, b.gxlo);
+        ASSERT_LE(gx, b.gxhi);
+        ASSERT_GE(gy, b.gylo);
+        ASSERT_LE(gy, b.gyhi);
+      }
   }
+  // (Boxes over a few leaves: the leaves' bounds are tighter for some.)
+  EXPECT_GT(tighter, 100);
 }
 
 // The field is a function of the model alone: the same numbers in every sync order.
