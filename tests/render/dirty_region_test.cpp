@@ -201,6 +201,15 @@ PieceOptions smallPlate(double toolScale) {
   return opt;
 }
 
+// A bare small plate (its generator's seed), a renderer on two threads and an empty model of it.
+struct SmallPlateScene {
+  const GeneratedPiece piece;
+  ThreadPool pool{2};
+  Renderer live{pool};
+  Model model;
+  explicit SmallPlateScene(unsigned seed) : piece(generatePiece(1, seed, smallPlate(1.0))), model(piece.workpiece, piece.deformation) {}
+};
+
 TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
   const PieceOptions opt = smallPlate(1.6);
   const GeneratedPiece piece = generatePiece(12, 21, opt);
@@ -288,11 +297,11 @@ TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
 // A bead floating above the sheet moves with the sheet under it: strokes under it reshape it
 // where they reach, at its heights, not the sheet's. The kept hits there are traced again.
 TEST(DirtyRegion, KeptHitsUnderASetOperationsToolAreTracedAgain) {
-  const GeneratedPiece piece = generatePiece(1, 5, smallPlate(1.0));
+  SmallPlateScene scene(5);
+  const GeneratedPiece& piece = scene.piece;
+  Renderer& live = scene.live;
+  Model& model = scene.model;
   PieceRandom rng(91);
-  ThreadPool pool(2);
-  Renderer live(pool);
-  Model model(piece.workpiece, piece.deformation);
   Operation bead = randomSetOperation(rng, piece, 2.0);
   bead.kind = OpKind::BlendUnion;
   bead.tool.center = {0.0, 0.0, 0.5 + 6.0 * bead.tool.r};
@@ -325,41 +334,38 @@ TEST(DirtyRegion, KeptHitsUnderASetOperationsToolAreTracedAgain) {
 // raised band, punches just beyond its far edge. Their dirty updates still give the bytes of a
 // fresh full render.
 TEST(DirtyRegion, KeptHitsInFrontOfAChangeAreShadedAgainNotTraced) {
-  const GeneratedPiece piece = generatePiece(1, 5, smallPlate(1.0));
+  SmallPlateScene scene(5);
   PieceRandom rng(17);
-  ThreadPool pool(2);
-  Renderer live(pool);
-  Model model(piece.workpiece, piece.deformation);
-  Operation band = randomRegion(rng, piece, 1.0);
+  Operation band = randomRegion(rng, scene.piece, 1.0);
   band.points = {{-22.0, -15.0}, {22.0, -15.0}, {22.0, 0.0}, {-22.0, 0.0}};
   band.height = 3.0, band.falloff = 1.5;
-  ASSERT_TRUE(model.add(band).ok());
-  CameraSpec spec = piece.camera;
+  ASSERT_TRUE(scene.model.add(band).ok());
+  CameraSpec spec = scene.piece.camera;
   spec.eye = {0.0, -70.0, 45.0}, spec.target = {0.0, 4.0, 0.0};
   const Camera camera(spec, 160, 100);
-  live.setCamera(camera);
-  live.setShading(shading(model));
-  live.setAntialias(false);  // one ray a pixel: every pixel of the spans is traced or shaded again
+  scene.live.setCamera(camera);
+  scene.live.setShading(shading(scene.model));
+  scene.live.setAntialias(false);  // one ray a pixel: every pixel of the spans is traced or shaded again
   RenderOptions options;
-  live.sync(model);
+  scene.live.sync(scene.model);
   Image image;
-  live.renderFull(image);
+  scene.live.renderFull(image);
   long kept = 0;
   for (int k = 0; k < 3; ++k) {
     // Every pixel's hit now, as the renderer traces it.
     std::vector<std::optional<glm::dvec3>> before(static_cast<size_t>(camera.width()) * camera.height());
     for (int y = 0; y < camera.height(); ++y)
       for (int x = 0; x < camera.width(); ++x)
-        ASSERT_TRUE(live.pick(model, camera, x + 0.5, y + 0.5, before[static_cast<size_t>(y) * camera.width() + x]));
-    Operation punch = randomPunch(rng, piece);
+        ASSERT_TRUE(scene.live.pick(scene.model, camera, x + 0.5, y + 0.5, before[static_cast<size_t>(y) * camera.width() + x]));
+    Operation punch = randomPunch(rng, scene.piece);
     punch.at.x = -8.0 + 8.0 * k, punch.at.y = 5.0;
-    ASSERT_TRUE(model.add(punch).ok());
-    live.sync(model);
-    const PixelSpans dirty = live.dirtySpans(model, model.activeCount() - 1);
+    ASSERT_TRUE(scene.model.add(punch).ok());
+    scene.live.sync(scene.model);
+    const PixelSpans dirty = scene.live.dirtySpans(scene.model, scene.model.activeCount() - 1);
     // The pixels whose ray, from the eye to its hit, stays well clear of the punch's support
     // seen from above (its radius, the field's stencil and a ray cell less than 1.5 mm): no
     // change of the sheet there can move their hits.
-    const double clear = model.operations().back().supportPieces().radius + 1.5;
+    const double clear = scene.model.operations().back().supportPieces().radius + 1.5;
     const glm::dvec2 c(punch.at.x, punch.at.y), eye(spec.eye.x, spec.eye.y);
     long inFront = 0;
     for (int y = dirty.box.y; y < dirty.box.y + dirty.box.h; ++y) {
@@ -373,11 +379,11 @@ TEST(DirtyRegion, KeptHitsInFrontOfAChangeAreShadedAgainNotTraced) {
       }
     }
     RenderStats st;
-    ASSERT_TRUE(live.render(image, dirty, &st));
+    ASSERT_TRUE(scene.live.render(image, dirty, &st));
     // Those are shaded again at their kept hits, not traced.
     EXPECT_LE(static_cast<long>(st.rays) + inFront, dirty.area()) << "punch " << k;
     kept += inFront;
-    const std::string diff = againstFresh(model, camera, options, image, /*antialias=*/false);
+    const std::string diff = againstFresh(scene.model, camera, options, image, /*antialias=*/false);
     ASSERT_TRUE(diff.empty()) << "punch " << k << ": " << diff;
   }
   // The view holds many such pixels (a band of metal in front of each punch's column).
@@ -388,10 +394,10 @@ TEST(DirtyRegion, KeptHitsInFrontOfAChangeAreShadedAgainNotTraced) {
 // searched on their cells' ends (dense rays), and a dirty update after each bead still gives the
 // bytes of a fresh full render.
 TEST(DirtyRegion, ATangleOfBlendBeadsEndsAsAFullRender) {
-  const GeneratedPiece piece = generatePiece(1, 0, smallPlate(1.0));
-  ThreadPool pool(2);
-  Renderer live(pool);
-  Model model(piece.workpiece, piece.deformation);
+  SmallPlateScene scene(0);
+  const GeneratedPiece& piece = scene.piece;
+  Renderer& live = scene.live;
+  Model& model = scene.model;
   const Camera camera(piece.camera, 160, 100);
   live.setCamera(camera);
   live.setShading(shading(model));
