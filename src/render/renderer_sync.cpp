@@ -85,6 +85,10 @@ bool segmentNear(const Vec2& a, const Vec2& b, const std::vector<Vec2>& piece, d
   return pointNear(a, c, d, r2) || pointNear(b, c, d, r2) || pointNear(c, a, b, r2) || pointNear(d, a, b, r2);
 }
 
+// The most convex pieces (points or segments) a change can have for forgetHitsNear() to test
+// its pixels' rays one by one.
+constexpr size_t kTestedPieces = 4;
+
 }  // namespace
 
 void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
@@ -98,8 +102,9 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
   // pieces). The pixels whose rays can meet it are the projection of that reach (piecesSpans());
   // among them, a ray whose kept hit lies before the reach along the ray (a hit in front of the
   // change, or on the sheet nearer the eye than its rise) keeps its hit: each pixel's ray is
-  // tested (a punch on the vm medallion keeps about 2 600 more hits of its 32 000 pixels, and
-  // the rays it no longer traces are the dear ones that pass near the outline; docs/performance.md).
+  // tested (a punch on the vm medallion keeps 10 700 hits of its 31 500 pixels instead of 8 500,
+  // and the rays it no longer traces are dear ones, many passing near the outline;
+  // docs/performance.md, "Stop 47").
   const double past = 2.0 * step_ / kSubdivisions + 1e-6;
   for (HitCache& cache : hitCaches_) {
     if (!cache.camera || cache.blank) continue;
@@ -116,10 +121,12 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
       if (c.op) pieces = c.op->supportPieces();
       const double radius = pieces.radius + grow + 1e-6;
       const PixelSpans px = c.op ? piecesSpans(camera, pieces, grow, box) : PixelSpans::of(projectBox(camera, box));
-      // A region's hull of many corners, or a change without its operation: every kept hit of
-      // the spans is forgotten (a region's pixels are nearly all in its column: a test cost
-      // more than it saved).
-      if (!c.op || std::any_of(pieces.pieces.begin(), pieces.pieces.end(), [](const auto& p) { return p.size() > 2; })) {
+      // A region's hull of many corners, a path of many segments, or a change without its
+      // operation: every kept hit of the spans is forgotten (a region's pixels are nearly all in
+      // its column, and a pixel's test costs as many distances as the pieces: it cost more than
+      // it saved).
+      if (!c.op || pieces.pieces.size() > kTestedPieces ||
+          std::any_of(pieces.pieces.begin(), pieces.pieces.end(), [](const auto& p) { return p.size() > 2; })) {
         for (int y = px.box.y; y < px.box.y + px.box.h; ++y) {
           const PixelSpans::Span row = px.row(y);
           if (!row.empty()) std::fill(cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x0, cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x1, nan);
