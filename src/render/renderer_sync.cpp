@@ -155,8 +155,8 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
         return false;
       };
       // A perspective camera's rays along a row: from the eye, their directions scaled to a
-      // forward part of 1 step by the same vector from pixel to pixel (no division a pixel but
-      // the length's).
+      // forward part of 1 step by the same vector from pixel to pixel (a pixel's divisions: the
+      // direction's length and its climb, where the camera's ray and a clip to the box made six).
       const bool perspective = camera.spec().type == CameraSpec::Type::Perspective;
       const glm::dvec3 forward = camera.rayAt(0.5 * camera.width(), 0.5 * camera.height()).dir;
       auto unscaled = [&](double sx, double sy) {
