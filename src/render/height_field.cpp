@@ -424,12 +424,17 @@ void HeightField::valueAndGradient(double x, double y, double& v, double& gx, do
   gx = (bv.h0 * c0 + bv.h1 * c1 + s * (bv.g0 * e0 + bv.g1 * e1)) * invS_;
 }
 
-HeightField::Bound HeightField::bound(const Box2& b) const {
+inline void HeightField::leavesUnder(const Box2& b, int& a0, int& a1, int& b0, int& b1) const {
   static_assert(kBlock == 8, "leaf indices are cell indices shifted by 3");
-  int a0 = std::clamp(static_cast<int>((b.x0 - x0_) * invS_), 0, nx_ - 2) >> 3;
-  int a1 = std::clamp(static_cast<int>((b.x1 - x0_) * invS_), 0, nx_ - 2) >> 3;
-  int b0 = std::clamp(static_cast<int>((b.y0 - y0_) * invS_), 0, ny_ - 2) >> 3;
-  int b1 = std::clamp(static_cast<int>((b.y1 - y0_) * invS_), 0, ny_ - 2) >> 3;
+  a0 = std::clamp(static_cast<int>((b.x0 - x0_) * invS_), 0, nx_ - 2) >> 3;
+  a1 = std::clamp(static_cast<int>((b.x1 - x0_) * invS_), 0, nx_ - 2) >> 3;
+  b0 = std::clamp(static_cast<int>((b.y0 - y0_) * invS_), 0, ny_ - 2) >> 3;
+  b1 = std::clamp(static_cast<int>((b.y1 - y0_) * invS_), 0, ny_ - 2) >> 3;
+}
+
+HeightField::Bound HeightField::bound(const Box2& b) const {
+  int a0, a1, b0, b1;
+  leavesUnder(b, a0, a1, b0, b1);
   if (a0 == a1 && b0 == b1) {  // one leaf (most of a walk's steps near the surface)
     const Level& l = levels_[0];
     const Node& n = l.nodes[static_cast<size_t>(b0) * l.w + a0];
@@ -454,10 +459,8 @@ HeightField::Bound HeightField::bound(const Box2& b) const {
 }
 
 HeightField::Bound HeightField::leafBound(const Box2& b) const {
-  const int a0 = std::clamp(static_cast<int>((b.x0 - x0_) * invS_), 0, nx_ - 2) >> 3;
-  const int a1 = std::clamp(static_cast<int>((b.x1 - x0_) * invS_), 0, nx_ - 2) >> 3;
-  const int b0 = std::clamp(static_cast<int>((b.y0 - y0_) * invS_), 0, ny_ - 2) >> 3;
-  const int b1 = std::clamp(static_cast<int>((b.y1 - y0_) * invS_), 0, ny_ - 2) >> 3;
+  int a0, a1, b0, b1;
+  leavesUnder(b, a0, a1, b0, b1);
   const Level& l = levels_[0];
   float lo = std::numeric_limits<float>::infinity(), hi = -lo, gxlo = lo, gxhi = hi, gylo = lo, gyhi = hi;
   for (int j = b0; j <= b1; ++j)

@@ -161,6 +161,8 @@ class HeightField {
   };
 
  private:
+  // The leaves under a box: columns a0..a1, rows b0..b1 of levels_[0] (clamped to the lattice).
+  void leavesUnder(const Box2& b, int& a0, int& a1, int& b0, int& b1) const;
   struct Node {
     float lo, hi, gxlo, gxhi, gylo, gyhi;
   };

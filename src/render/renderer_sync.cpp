@@ -114,12 +114,20 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
     const Camera& camera = *cache.camera;
     const int w = camera.width();
     const double grow = 2.0 * std::sqrt(2.0) * field_.spacing() + step_ + 1e-6;
+    // A perspective camera's rays along a row: from the eye, their directions scaled to a forward
+    // part of 1 step by the same vector from pixel to pixel (a pixel's divisions: the direction's
+    // length and its climb, where the camera's ray and a clip to the box made six).
+    const bool perspective = camera.spec().type == CameraSpec::Type::Perspective;
+    const glm::dvec3 forward = camera.rayAt(0.5 * camera.width(), 0.5 * camera.height()).dir;
+    auto unscaled = [&](double sx, double sy) {
+      const glm::dvec3 d = camera.rayAt(sx, sy).dir;
+      return d / glm::dot(d, forward);
+    };
     for (const FieldChange& c : changes) {
       const Box3 box = offsetReach(model_->workpiece().bounds(), c.region, grow, peaks);
       // Near the operation's convex pieces when it is known, else the box's rectangle.
       PreparedOp::SupportPieces pieces;
       if (c.op) pieces = c.op->supportPieces();
-      const double radius = pieces.radius + grow + 1e-6;
       const PixelSpans px = c.op ? piecesSpans(camera, pieces, grow, box) : PixelSpans::of(projectBox(camera, box));
       // A region's hull of many corners, a path of many segments, or a change without its
       // operation: every kept hit of the spans is forgotten (a region's pixels are nearly all in
@@ -133,6 +141,7 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
         }
         continue;
       }
+      const double radius = pieces.radius + grow + 1e-6;
       // Whether the ray from `o` along `dir` (of any length: `inv` is 1 / its length), up to its
       // kept hit t, can meet the change.
       auto meets = [&](const glm::dvec3& o, const glm::dvec3& dir, double inv, double t) {
@@ -153,15 +162,6 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
         for (const auto& piece : pieces.pieces)
           if (segmentNear(a, b, piece, radius)) return true;
         return false;
-      };
-      // A perspective camera's rays along a row: from the eye, their directions scaled to a
-      // forward part of 1 step by the same vector from pixel to pixel (a pixel's divisions: the
-      // direction's length and its climb, where the camera's ray and a clip to the box made six).
-      const bool perspective = camera.spec().type == CameraSpec::Type::Perspective;
-      const glm::dvec3 forward = camera.rayAt(0.5 * camera.width(), 0.5 * camera.height()).dir;
-      auto unscaled = [&](double sx, double sy) {
-        const glm::dvec3 d = camera.rayAt(sx, sy).dir;
-        return d / glm::dot(d, forward);
       };
       auto rows = [&](const Rect& band) {
         for (int y = band.y; y < band.y + band.h; ++y) {
