@@ -239,6 +239,25 @@ double distanceAt(const Model& model, const OpGrid& grid, double x, double y, do
 
 }  // namespace
 
+namespace mesh_detail {
+
+SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxError) {
+  return [&model, &grid, maxError](const std::array<float, 3>& a, const std::array<float, 3>& b,
+                                    const std::array<float, 3>& c) {
+    thread_local std::vector<std::uint32_t> scratch;
+    auto near = [&](double u, double v, double w) {
+      double q[3];
+      for (int k = 0; k < 3; ++k) q[k] = u * a[k] + v * b[k] + w * c[k];
+      return distanceAt(model, grid, q[0], q[1], q[2], scratch) <= maxError;
+    };
+    constexpr double s = 1.0 / 6, t = 2.0 / 3;  // (t, s, s): halfway from a corner to the centre
+    return near(1.0 / 3, 1.0 / 3, 1.0 / 3) && near(0.5, 0.5, 0) && near(0, 0.5, 0.5) && near(0.5, 0, 0.5) &&
+           near(t, s, s) && near(s, t, s) && near(s, s, t);
+  };
+}
+
+}  // namespace mesh_detail
+
 double autoMeshCell(const Model& model) {
   double finest = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < model.activeCount(); ++i)
@@ -380,7 +399,8 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
   report(0.85);
 
   if (options.maxError > 0.0) {
-    st.fineTiles = decimate(mesh, options.maxError, 48.0 * h, g.ox, g.oy, pool);
+    const SurfaceCheck onSurface = surfaceCheck(model, opGrid, options.maxError);
+    st.fineTiles = decimate(mesh, options.maxError, 48.0 * h, g.ox, g.oy, pool, true, &onSurface);
     const std::string problem =
         options.rejectDecimated ? "rejected" : mesh.triangles.empty() ? "empty" : checkClosedManifold(mesh);
     if (!problem.empty()) {

@@ -2,13 +2,17 @@
 // (welding, mending, decimation) share. Not for other callers.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "export/mesh.h"
 
 namespace emboss {
 
+class Model;
+class OpGrid;
 class ThreadPool;
 
 namespace mesh_detail {
@@ -57,8 +61,18 @@ VertexRemovals removeFoldsAndThinTriangles(std::vector<unsigned int>& ix, size_t
 // flaw is made that the fine mesh had not); returns how many tiles failed their check in the last
 // round (left fine). Then the seams: what is left fine simplified again in tiles across the first
 // round's edges (`seams` false: not, for tests).
+//
+// With `onSurface`, the seams' tiles first take everything in them, the simplified patches beside
+// the seam too, and simplify it again; a triangle that makes is kept only where `onSurface` finds
+// it within maxError of the model's surface (meshoptimizer measures its error against what it is
+// given, here already simplified triangles, not against the fine mesh).
+using SurfaceCheck = std::function<bool(const std::array<float, 3>&, const std::array<float, 3>&,
+                                        const std::array<float, 3>&)>;
+// Whether a triangle lies within maxError of the model's surface: its first-order distance
+// (|f| / |grad f|) at its centre and its edges' midpoints. Holds references to both.
+SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxError);
 size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool,
-                bool seams = true);
+                bool seams = true, const SurfaceCheck* onSurface = nullptr);
 
 }  // namespace mesh_detail
 }  // namespace emboss
