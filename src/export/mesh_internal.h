@@ -69,7 +69,8 @@ VertexRemovals removeFoldsAndThinTriangles(std::vector<unsigned int>& ix, size_t
 using SurfaceCheck = std::function<bool(const std::array<float, 3>&, const std::array<float, 3>&,
                                         const std::array<float, 3>&)>;
 // Whether a triangle lies within maxError of the model's surface: its first-order distance
-// (|f| / |grad f|) at its centre and its edges' midpoints. Holds references to both.
+// (|f| / |grad f|) at seven points, its centre, its edges' midpoints and the points halfway from
+// each corner to the centre. Holds references to the model and the grid.
 SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxError);
 size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool,
                 bool seams = true, const SurfaceCheck* onSurface = nullptr);
