@@ -256,6 +256,99 @@ SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxErro
   };
 }
 
+size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid) {
+  using Tri = std::array<std::uint32_t, 3>;
+  auto& V = mesh.vertices;
+  const auto& T = mesh.triangles;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
+  edges.reserve(3 * T.size());
+  for (std::uint32_t t = 0; t < T.size(); ++t)
+    for (int k = 0; k < 3; ++k) edges.push_back({(std::uint64_t{T[t][k]} << 32) | T[t][(k + 1) % 3], t});
+  std::sort(edges.begin(), edges.end());
+  auto across = [&](std::uint32_t u, std::uint32_t v) {  // the triangle with edge v -> u
+    const std::uint64_t key = (std::uint64_t{v} << 32) | u;
+    auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(key, std::uint32_t{0}));
+    return it != edges.end() && it->first == key ? it->second : UINT32_MAX;
+  };
+  auto normal = [&](const Tri& t, float n[3]) { return crossLength2(V[t[0]].data(), V[t[1]].data(), V[t[2]].data(), n); };
+  auto folded = [&](std::uint32_t a, std::uint32_t b) {
+    if (a == UINT32_MAX || b == UINT32_MAX) return false;
+    float na[3], nb[3];
+    const float la = normal(T[a], na), lb = normal(T[b], nb);
+    return la > 0.0f && lb > 0.0f &&
+           na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] < static_cast<float>(kFoldCos) * std::sqrt(la) * std::sqrt(lb);
+  };
+  std::vector<std::uint32_t> at;  // the folds' vertices
+  for (const auto& [key, t] : edges) {
+    const std::uint32_t u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
+    if (u < v && folded(t, across(u, v))) at.insert(at.end(), {T[t][0], T[t][1], T[t][2]});
+  }
+  if (at.empty()) return 0;
+  std::sort(at.begin(), at.end());
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  std::vector<std::vector<std::uint32_t>> fan(at.size());
+  for (std::uint32_t t = 0; t < T.size(); ++t)
+    for (std::uint32_t v : T[t])
+      if (auto it = std::lower_bound(at.begin(), at.end(), v); it != at.end() && *it == v) fan[it - at.begin()].push_back(t);
+  // Folds on the edges of a vertex's fan (each once), and whether a fan triangle is thin.
+  auto around = [&](const std::vector<std::uint32_t>& f, bool& thin) {
+    size_t folds = 0;
+    thin = false;
+    std::vector<std::uint64_t> seen;
+    for (std::uint32_t t : f) {
+      float n[3];
+      const float l2 = normal(T[t], n);
+      float longest = 0.0f;
+      for (int k = 0; k < 3; ++k) {
+        const auto &a = V[T[t][k]], &b = V[T[t][(k + 1) % 3]];
+        longest = std::max(longest, (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+        const std::uint32_t o = across(T[t][k], T[t][(k + 1) % 3]);
+        const std::uint64_t pair = (std::uint64_t{std::min(t, o)} << 32) | std::max(t, o);
+        if (std::find(seen.begin(), seen.end(), pair) != seen.end()) continue;
+        seen.push_back(pair);
+        folds += folded(t, o);
+      }
+      thin = thin || std::sqrt(l2) < static_cast<float>(kThin) * longest;
+    }
+    return folds;
+  };
+  std::vector<std::uint32_t> scratch;
+  size_t moved = 0;
+  for (int sweep = 0; sweep < 3; ++sweep)
+    for (size_t i = 0; i < at.size(); ++i) {
+      const std::uint32_t v = at[i];
+      bool thinBefore;
+      const size_t before = around(fan[i], thinBefore);
+      if (before == 0) continue;
+      // The neighbours' centre, then onto the surface.
+      double c[3] = {0, 0, 0};
+      int count = 0;
+      for (std::uint32_t t : fan[i])
+        for (std::uint32_t w : T[t])
+          if (w != v) {
+            for (int k = 0; k < 3; ++k) c[k] += V[w][k];
+            ++count;
+          }
+      for (int k = 0; k < 3; ++k) c[k] /= count;
+      double dist = 1e30;
+      for (int step = 0; step < 4; ++step) {
+        const Grad g = model.evaluate(P3<Grad>{{c[0], 1, 0, 0}, {c[1], 0, 1, 0}, {c[2], 0, 0, 1}}, grid.at(c[0], c[1], scratch));
+        const double len2 = g.dx * g.dx + g.dy * g.dy + g.dz * g.dz;
+        if (!(len2 > 0.0)) break;
+        dist = std::abs(g.v) / std::sqrt(len2);
+        c[0] -= g.v * g.dx / len2, c[1] -= g.v * g.dy / len2, c[2] -= g.v * g.dz / len2;
+      }
+      if (!(dist < 1e-4)) continue;
+      const auto old = V[v];
+      V[v] = {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
+      bool thinAfter;
+      const size_t after = around(fan[i], thinAfter);
+      if (after < before && (!thinAfter || thinBefore)) ++moved;
+      else V[v] = old;
+    }
+  return moved;
+}
+
 }  // namespace mesh_detail
 
 double autoMeshCell(const Model& model) {
@@ -433,6 +526,9 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
       mesh.triangles = std::move(before);
     }
   }
+  // The fine mesh's own folds left (no removal took them out): their vertices moved along the
+  // surface ("Folds moved out", docs/exports.md).
+  st.movedVertices = moveOutOfFolds(mesh, model, opGrid);
   report(0.9);
 
   // Measure: the vertices' and a sample of the faces' distances to the model's surface.

@@ -401,6 +401,53 @@ TEST(MeshExport, TheFineMeshsOwnFoldDoesNotStopTheDecimation) {
   EXPECT_NEAR(area, 256.0, 1e-3);
 }
 
+// A fold of the fine mesh's own that no removal takes out (at a sharp crease the hole around a
+// vertex lies in no plane): its vertices are moved along the surface, each to the surface's point
+// nearest its neighbours' centre, where that leaves fewer folds and no thin triangle. Here a vertex
+// of the test plate's flat front face (far from its relief, at 0.4 mm) is pushed across the edge
+// beyond it, on the face: its fan folds. The move takes the folds out, the vertex ends on the
+// surface, and the mesh stays closed and manifold with the same triangles.
+TEST(MeshExport, AFoldsVertexIsMovedAlongTheSurface) {
+  const Model model = modelOf(kPlate);
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.4;
+  o.maxError = 0.0;
+  auto mesh = meshModel(model, o);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  const size_t folds0 = foldEdges(*mesh), thin0 = thinTriangles(*mesh);
+  // A front-face vertex near (17, -12) and a triangle of its fan, turned to start at it.
+  std::uint32_t v = UINT32_MAX;
+  std::array<std::uint32_t, 3> fan{};
+  for (const auto& t : mesh->triangles) {
+    for (int k = 0; k < 3 && v == UINT32_MAX; ++k) {
+      const auto& p = mesh->vertices[t[k]];
+      if (std::abs(p[2] - 0.5f) < 1e-4f && std::abs(p[0] - 17.0f) < 1.5f && std::abs(p[1] + 12.0f) < 1.5f)
+        v = t[k], fan = {t[k], t[(k + 1) % 3], t[(k + 2) % 3]};
+    }
+    if (v != UINT32_MAX) break;
+  }
+  ASSERT_NE(v, UINT32_MAX) << "no front-face vertex found there";
+  const auto home = mesh->vertices[v];
+  const auto &a = mesh->vertices[fan[1]], &b = mesh->vertices[fan[2]];
+  mesh->vertices[v] = {a[0] + b[0] - home[0], a[1] + b[1] - home[1], home[2]};  // across the edge a b
+  const size_t folds1 = foldEdges(*mesh);
+  OpGrid grid;
+  grid.sync(model);
+  const size_t moved = mesh_detail::moveOutOfFolds(*mesh, model, grid);
+  const auto& p = mesh->vertices[v];
+  const Grad g = model.evaluate(P3<Grad>{{p[0], 1, 0, 0}, {p[1], 0, 1, 0}, {p[2], 0, 0, 1}});
+  const double distance = std::abs(g.v) / std::sqrt(g.dx * g.dx + g.dy * g.dy + g.dz * g.dz);
+  std::printf("fold edges %zu, pushed %zu, after %zu moves %zu; the vertex %.4f mm from home, %.6f mm off the surface\n",
+              folds0, folds1, moved, foldEdges(*mesh), std::hypot(p[0] - home[0], p[1] - home[1]), distance);
+  EXPECT_GT(folds1, folds0);
+  EXPECT_GE(moved, 1u);
+  EXPECT_LE(foldEdges(*mesh), folds0);
+  EXPECT_LE(thinTriangles(*mesh), thin0);
+  EXPECT_LT(distance, 1e-4);
+  EXPECT_EQ(checkClosedManifold(*mesh), "");
+}
+
 TEST(MeshExport, AFoldedVertexIsTakenOutAndItsHoleFilled) {
   FlatGrid g;
   const unsigned int v = g.id(3, 3);
