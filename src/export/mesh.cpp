@@ -331,11 +331,11 @@ size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid
           }
       for (int k = 0; k < 3; ++k) c[k] /= count;
       double dist = 1e30;
-      for (int step = 0; step < 4; ++step) {
+      for (int step = 0; step <= 4; ++step) {  // four steps, then the distance where they end
         const Grad g = model.evaluate(P3<Grad>{{c[0], 1, 0, 0}, {c[1], 0, 1, 0}, {c[2], 0, 0, 1}}, grid.at(c[0], c[1], scratch));
         const double len2 = g.dx * g.dx + g.dy * g.dy + g.dz * g.dz;
-        if (!(len2 > 0.0)) break;
-        dist = std::abs(g.v) / std::sqrt(len2);
+        dist = len2 > 0.0 ? std::abs(g.v) / std::sqrt(len2) : 1e30;
+        if (step == 4 || !(len2 > 0.0)) break;
         c[0] -= g.v * g.dx / len2, c[1] -= g.v * g.dy / len2, c[2] -= g.v * g.dz / len2;
       }
       if (!(dist < 1e-4)) continue;
