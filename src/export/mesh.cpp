@@ -257,7 +257,6 @@ SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxErro
 }
 
 size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid) {
-  using Tri = std::array<std::uint32_t, 3>;
   auto& V = mesh.vertices;
   const auto& T = mesh.triangles;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
@@ -270,13 +269,8 @@ size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid
     auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(key, std::uint32_t{0}));
     return it != edges.end() && it->first == key ? it->second : UINT32_MAX;
   };
-  auto normal = [&](const Tri& t, float n[3]) { return crossLength2(V[t[0]].data(), V[t[1]].data(), V[t[2]].data(), n); };
   auto folded = [&](std::uint32_t a, std::uint32_t b) {
-    if (a == UINT32_MAX || b == UINT32_MAX) return false;
-    float na[3], nb[3];
-    const float la = normal(T[a], na), lb = normal(T[b], nb);
-    return la > 0.0f && lb > 0.0f &&
-           na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] < static_cast<float>(kFoldCos) * std::sqrt(la) * std::sqrt(lb);
+    return a != UINT32_MAX && b != UINT32_MAX && foldsAcross(V, T[a], T[b]);
   };
   std::vector<std::uint32_t> at;  // the folds' vertices
   for (const auto& [key, t] : edges) {
@@ -296,19 +290,14 @@ size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid
     thin = false;
     std::vector<std::uint64_t> seen;
     for (std::uint32_t t : f) {
-      float n[3];
-      const float l2 = normal(T[t], n);
-      float longest = 0.0f;
       for (int k = 0; k < 3; ++k) {
-        const auto &a = V[T[t][k]], &b = V[T[t][(k + 1) % 3]];
-        longest = std::max(longest, (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
         const std::uint32_t o = across(T[t][k], T[t][(k + 1) % 3]);
         const std::uint64_t pair = (std::uint64_t{std::min(t, o)} << 32) | std::max(t, o);
         if (std::find(seen.begin(), seen.end(), pair) != seen.end()) continue;
         seen.push_back(pair);
         folds += folded(t, o);
       }
-      thin = thin || std::sqrt(l2) < static_cast<float>(kThin) * longest;
+      thin = thin || shape(V[T[t][0]].data(), V[T[t][1]].data(), V[T[t][2]].data()) < static_cast<float>(kThin);
     }
     return folds;
   };

@@ -114,8 +114,7 @@ static void crossAndLongest2(const float* a, const float* b, const float* c, flo
   l2 = std::max({d2(a, b), d2(b, c), d2(c, a)});
 }
 
-// |cross| / (longest edge)^2: about the smallest angle of a thin triangle, in radians.
-static float shape(const float* a, const float* b, const float* c) {
+float shape(const float* a, const float* b, const float* c) {
   float c2, l2;
   crossAndLongest2(a, b, c, c2, l2);
   return l2 > 0.0f ? std::sqrt(c2) / l2 : 0.0f;
@@ -125,6 +124,15 @@ bool sliver(const float* a, const float* b, const float* c, float k) {
   float c2, l2;
   crossAndLongest2(a, b, c, c2, l2);
   return c2 <= k * k * l2 * l2;
+}
+
+bool foldsAcross(const std::vector<std::array<float, 3>>& v, const std::array<std::uint32_t, 3>& a,
+                 const std::array<std::uint32_t, 3>& b) {
+  float na[3], nb[3];
+  const float la = crossLength2(v[a[0]].data(), v[a[1]].data(), v[a[2]].data(), na);
+  const float lb = crossLength2(v[b[0]].data(), v[b[1]].data(), v[b[2]].data(), nb);
+  const float d = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
+  return la > 0.0f && lb > 0.0f && d < static_cast<float>(kFoldCos) * std::sqrt(la) * std::sqrt(lb);
 }
 
 // Simplifying a flat face leaves triangles whose corners are (nearly) collinear: zero area or a
@@ -347,11 +355,7 @@ std::vector<std::array<std::uint32_t, 4>> flawsIn(const std::vector<std::array<f
     if (t >= own.size() && it->second >= own.size()) continue;  // both in the context
     const Tri &a = tri(t), &b = tri(it->second);
     if (fine.count(TriKey(a)) && fine.count(TriKey(b))) continue;  // the fine mesh's own
-    float na[3], nb[3];
-    const float la = crossLength2(v[a[0]].data(), v[a[1]].data(), v[a[2]].data(), na);
-    const float lb = crossLength2(v[b[0]].data(), v[b[1]].data(), v[b[2]].data(), nb);
-    const float d = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
-    if (la > 0.0f && lb > 0.0f && d < static_cast<float>(kFoldCos) * std::sqrt(la) * std::sqrt(lb)) {
+    if (foldsAcross(v, a, b)) {
       std::uint32_t apexB = b[0];
       for (std::uint32_t x : b)
         if (x != a[0] && x != a[1] && x != a[2]) apexB = x;

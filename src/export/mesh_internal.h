@@ -33,6 +33,8 @@ void compact(TriangleMesh& mesh);
 // |(b - a) x (c - a)|^2, the cross product itself in n.
 float crossLength2(const float* a, const float* b, const float* c, float n[3]);
 bool sliver(const float* a, const float* b, const float* c, float k = kSliver);
+// |cross| / (longest edge)^2: about the smallest angle of a thin triangle, in radians.
+float shape(const float* a, const float* b, const float* c);
 // Flips the longest edge of each zero-area or sliver triangle (kMendSliver) among the first n
 // indices (3 a triangle) with its neighbour's, where that makes two proper triangles facing the
 // neighbour's way and the worse of the two is better than the worse before.
@@ -40,6 +42,9 @@ void mendFlatTriangles(std::vector<unsigned int>& ix, size_t n, const std::vecto
 // A fold: two triangles across an edge whose normals are more than 120 degrees apart (cosine
 // under kFoldCos), the surface folded over itself.
 inline constexpr double kFoldCos = -0.5;
+// Whether triangles a and b (of the vertices v) fold against each other.
+bool foldsAcross(const std::vector<std::array<float, 3>>& v, const std::array<std::uint32_t, 3>& a,
+                 const std::array<std::uint32_t, 3>& b);
 // A thin triangle: its height under kThin of its longest edge (|cross| / longest edge^2); its
 // normal is float noise, a speck in a smooth-shading reader.
 inline constexpr double kThin = 1e-3;
