@@ -47,18 +47,6 @@ T polylineDistance2(const T& x, const T& y, const std::vector<Vec2>& pts, bool c
   return best;
 }
 
-// Odd-parity (even-odd) inside test of a point against a closed contour.
-bool insideContour(double x, double y, const std::vector<Vec2>& c) {
-  bool inside = false;
-  for (size_t i = 0, j = c.size() - 1; i < c.size(); j = i++) {
-    if ((c[i].y > y) != (c[j].y > y)) {
-      const double xc = c[j].x + (y - c[j].y) * (c[i].x - c[j].x) / (c[i].y - c[j].y);
-      if (x < xc) inside = !inside;
-    }
-  }
-  return inside;
-}
-
 // k(t2) * taper(sqrt(t2) / L), with the exact zero beyond the support and no taper work inside 3 L.
 template <class T, class K>
 T tapered(const T& t2, double L, K kernel) {
@@ -252,6 +240,12 @@ std::string validate(const Operation& op) {
 }
 
 PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
+  if (op_.kind == OpKind::Region) {
+    std::vector<double> xy;
+    xy.reserve(2 * op_.points.size());
+    for (const Vec2& q : op_.points) xy.push_back(q.x), xy.push_back(q.y);
+    contour_ = ContourEdges(xy);
+  }
   if ((op_.kind == OpKind::Trace || op_.kind == OpKind::Region) && op_.points.size() >= 2) {
     const auto& pts = op_.points;
     const size_t n = pts.size();
@@ -262,6 +256,7 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
       const double ex = b.x - a.x, ey = b.y - a.y, len2 = ex * ex + ey * ey;
       segments_.push_back({a.x, a.y, ex, ey, len2 <= 0.0 ? 0.0 : 1.0 / len2});
     }
+    pathFields_ = PathFields(segments_);
   }
   const double L = length_ = op_.characteristicLength();
   const double reach = kSupportSpan * L;
@@ -355,6 +350,9 @@ T PreparedOp::pathDistance2(const T& x, const T& y) const {
     double bestV = 0.0;
     nearestSegments(segments_, y.v, &x.v, 1, &best, &bestV);
     return segmentDistance2(best, x, y);
+  } else if constexpr (std::is_same_v<T, double>) {
+    // A vector of segments at a time (path_rows.h): the same value.
+    return segments_.empty() ? polylineDistance2(x, y, op_.points, closed) : nearestDistance2(pathFields_, x, y);
   } else {
     return polylineDistance2(x, y, op_.points, closed);
   }
@@ -423,12 +421,12 @@ T PreparedOp::offset(const P3<T>& p, Deformation model) const {
         const Interval outside = regionOutside(t2);
         if (t2.lo > 0.0) {
           // The box does not touch the contour: it lies wholly inside or wholly outside.
-          const bool in = insideContour(p.x.mid(), p.y.mid(), o.points);
+          const bool in = insideContour(contour_, p.x.mid(), p.y.mid());
           return o.sign() * (in ? Interval(o.height) : outside);
         }
         return o.sign() * Interval(std::min(outside.lo, o.height), std::max(outside.hi, o.height));
       } else {
-        if (insideContour(valueOf(p.x), valueOf(p.y), o.points)) return T(o.sign() * o.height);
+        if (insideContour(contour_, valueOf(p.x), valueOf(p.y))) return T(o.sign() * o.height);
         return o.sign() * regionOutside(t2);
       }
     }

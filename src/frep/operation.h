@@ -159,6 +159,8 @@ class PreparedOp {
 
   Operation op_;
   std::vector<Segment> segments_;
+  PathFields pathFields_;   // segments_ field by field (pathDistance2 without gradients)
+  ContourEdges contour_;    // a region's contour's edges (its inside test)
   Joint joints_[2];  // start, end
   Box2 support_;
   std::vector<Vec3> pressPoints_;

@@ -1,11 +1,14 @@
 // The nearest segment of a path for a whole row of points at once, in SIMD lanes (Highway, the
 // widest instruction set of the machine chosen at run time: AVX-512, AVX2 or SSE on a PC, NEON on
 // a Raspberry Pi). The height field's update of a traced line or a raised region spends most of its
-// time here: every sample under the stroke looks at every segment of the path.
+// time here: every sample under the stroke looks at every segment of the path. One point's
+// distance to a path and a region's inside test take a vector of segments or edges at a time (the
+// exporter's evaluations of the model spent a sixth of its time on them one at a time).
 #pragma once
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace emboss {
 
@@ -19,6 +22,30 @@ struct PathSegment {
 // values (the first kept): the same results, bit for bit, as one point at a time.
 void nearestSegments(std::span<const PathSegment> segments, double y, const double* xs, int n,
                      std::uint32_t* best, double* bestV);
+
+// A path's segments again, field by field, for one point's distance a vector of segments at a time.
+struct PathFields {
+  std::vector<double> ax, ay, ex, ey, inv;
+  explicit PathFields(std::span<const PathSegment> segments = {});
+  size_t size() const { return ax.size(); }
+};
+
+// The squared distance from (x, y) to the nearest segment (at least one): kernels::segmentDistance2's
+// value for each segment, in its operations, and their min: the same value, bit for bit, as the
+// segments one at a time.
+double nearestDistance2(const PathFields& path, double x, double y);
+
+// A closed contour's edges, each from point i - 1 (j) to point i (the last point to the first
+// for i = 0), field by field.
+struct ContourEdges {
+  std::vector<double> ix, iy, jx, jy;
+  explicit ContourEdges(std::span<const double> xy = {});  // x0, y0, x1, y1, ...
+  size_t size() const { return ix.size(); }
+};
+
+// The odd-parity (even-odd) inside test of (x, y): the edges that cross its row at an x above it,
+// each crossing found in the scalar test's operations (operation.cpp's insideContour).
+bool insideContour(const ContourEdges& edges, double x, double y);
 
 // The instruction set nearestSegments runs on here ("AVX3", "AVX2", "NEON", "EMU128", ...).
 const char* simdTargetName();

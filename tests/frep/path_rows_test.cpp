@@ -65,6 +65,83 @@ TEST(PathRows, NearestSegmentsOfARowAreThoseOfEachPoint) {
   EXPECT_STRNE(simdTargetName(), "");
 }
 
+TEST(PathRows, OnePointsNearestDistanceIsEachSegmentsMin) {
+  // A point's squared distance to a path, a vector of segments at a time (PreparedOp's without
+  // gradients: the exporter's and the exact tracer's), is the least of the segments' one at a
+  // time, bit for bit, for paths of every length up to a few vectors (the last segments fewer).
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-30.0, 30.0);
+  for (int count = 1; count <= 41; ++count) {
+    std::vector<PathSegment> segs;
+    for (int s = 0; s < count; ++s) {
+      const double ax = u(rng), ay = u(rng);
+      const double ex = s % 6 == 5 ? 0.0 : u(rng), ey = s % 6 == 5 ? 0.0 : u(rng);  // a repeated point
+      const double len2 = ex * ex + ey * ey;
+      segs.push_back({ax, ay, ex, ey, len2 <= 0.0 ? 0.0 : 1.0 / len2});
+    }
+    const PathFields fields(segs);
+    ASSERT_EQ(fields.size(), segs.size());
+    for (int k = 0; k < 50; ++k) {
+      // Points anywhere, on a segment's end, and on a segment's line.
+      double x = u(rng), y = u(rng);
+      const PathSegment& g = segs[static_cast<size_t>(k) % segs.size()];
+      if (k % 5 == 1) x = g.ax, y = g.ay;
+      if (k % 5 == 2) x = g.ax + 0.37 * g.ex, y = g.ay + 0.37 * g.ey;
+      std::uint32_t rb = 0;
+      double rv = 0.0;
+      referenceNearest(segs, y, x, &rb, &rv);
+      ASSERT_EQ(nearestDistance2(fields, x, y), rv) << count << " segments, point " << k << " on " << simdTargetName();
+    }
+  }
+}
+
+// The scalar odd-parity test the lanes' must equal (operation.cpp's, before it went into lanes).
+bool referenceInside(double x, double y, const std::vector<Vec2>& c) {
+  bool inside = false;
+  for (size_t i = 0, j = c.size() - 1; i < c.size(); j = i++) {
+    if ((c[i].y > y) != (c[j].y > y)) {
+      const double xc = c[j].x + (y - c[j].y) * (c[i].x - c[j].x) / (c[i].y - c[j].y);
+      if (x < xc) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+TEST(PathRows, TheInsideTestInLanesIsTheScalarOne) {
+  // Random contours of every size up to a few vectors, their points on a coarse grid so that rows
+  // meet vertices and horizontal edges exactly; and a star, concave, with many crossings a row.
+  std::mt19937 rng(23);
+  std::uniform_int_distribution<int> grid(-12, 12);
+  std::uniform_real_distribution<double> u(-14.0, 14.0);
+  int inside = 0, tested = 0;
+  for (int n = 0; n <= 40; ++n) {
+    std::vector<Vec2> c;
+    if (n == 40) {
+      for (int k = 0; k < 45; ++k) {
+        const double a = 6.283185307179586 * k / 45, r = k % 2 == 0 ? 9.0 : 4.0;
+        c.push_back({r * std::cos(a), r * std::sin(a)});
+      }
+    } else {
+      for (int k = 0; k < n; ++k) c.push_back({grid(rng) * 0.5, grid(rng) * 0.5});
+    }
+    std::vector<double> xy;
+    for (const Vec2& p : c) xy.push_back(p.x), xy.push_back(p.y);
+    const ContourEdges edges(xy);
+    ASSERT_EQ(edges.size(), c.size());
+    for (int k = 0; k < 200; ++k) {
+      double x = u(rng), y = u(rng);
+      if (k % 3 == 1) y = grid(rng) * 0.5;                    // a vertex's row
+      if (k % 3 == 2 && !c.empty()) x = c[static_cast<size_t>(k) % c.size()].x, y = grid(rng) * 0.5;
+      const bool want = referenceInside(x, y, c);
+      ASSERT_EQ(insideContour(edges, x, y), want) << n << " points, at " << x << ", " << y << " on " << simdTargetName();
+      inside += want, ++tested;
+    }
+  }
+  // The contours held points, and left others out.
+  EXPECT_GT(inside, tested / 20);
+  EXPECT_LT(inside, tested - tested / 20);
+}
+
 void expectRowEqualsPoints(const Operation& op, double x0, double x1, double y0, double y1) {
   const PreparedOp prepared(op);
   std::mt19937 rng(11);
