@@ -68,14 +68,15 @@ void NearestSegments(const PathSegment* segs, std::uint32_t count, double y, con
   }
 }
 
-double NearestDistance2(const PathFields& f, double x, double y) {
-  const hn::ScalableTag<double> d;
-  const size_t lanes = hn::Lanes(d), count = f.size();
+// The least squared distance from (x, y) to segments [begin, end) of the path: kernels::
+// segmentDistance2 for each (a zero-length segment's inv is 0: t is 0 and q is p, its value too).
+template <class D>
+HWY_INLINE double SegmentsMin(D d, const PathFields& f, size_t begin, size_t end, double x, double y) {
+  const size_t lanes = hn::Lanes(d);
   const auto px = hn::Set(d, x), py = hn::Set(d, y), zero = hn::Zero(d), one = hn::Set(d, 1.0);
   auto best = hn::Set(d, std::numeric_limits<double>::infinity());
-  size_t i = 0;
-  for (; i + lanes <= count; i += lanes) {
-    // kernels::segmentDistance2 (a zero-length segment's inv is 0: t is 0 and q is p, its value too).
+  size_t i = begin;
+  for (; i + lanes <= end; i += lanes) {
     const auto qx0 = hn::Sub(px, hn::LoadU(d, f.ax.data() + i)), qy0 = hn::Sub(py, hn::LoadU(d, f.ay.data() + i));
     const auto ex = hn::LoadU(d, f.ex.data() + i), ey = hn::LoadU(d, f.ey.data() + i);
     auto t = hn::Mul(hn::Add(hn::Mul(qx0, ex), hn::Mul(qy0, ey)), hn::LoadU(d, f.inv.data() + i));
@@ -84,7 +85,7 @@ double NearestDistance2(const PathFields& f, double x, double y) {
     best = hn::Min(best, hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy)));
   }
   double v = hn::GetLane(hn::MinOfLanes(d, best));
-  for (; i < count; ++i) {
+  for (; i < end; ++i) {
     const double qx0 = x - f.ax[i], qy0 = y - f.ay[i];
     double t = (qx0 * f.ex[i] + qy0 * f.ey[i]) * f.inv[i];
     t = std::min(std::max(t, 0.0), 1.0);
@@ -94,12 +95,61 @@ double NearestDistance2(const PathFields& f, double x, double y) {
   return v;
 }
 
-bool InsideContour(const ContourEdges& e, double x, double y) {
+double NearestDistance2(const PathFields& f, double x, double y) {
   const hn::ScalableTag<double> d;
-  const size_t lanes = hn::Lanes(d), count = e.size();
+  const size_t chunks = f.boxX0.size(), count = f.size();
+  if (chunks <= 8) return SegmentsMin(d, f, 0, count, x, y);  // (a short path: every segment, no boxes)
+  // By chunks of consecutive segments: first the chunk that held this thread's last nearest
+  // segment of this path (the exporter's and the tracers' points come in order: the nearest
+  // chunk then is mostly the one before), then every other chunk whose box is not farther than
+  // the least distance so far by more than rounding can account for (a micrometre squared: the
+  // segments' values err by far less). A chunk passed over holds no segment whose value is below
+  // the least one: the min is the same value, whichever chunk came first.
+  thread_local const PathFields* lastPath = nullptr;
+  thread_local size_t lastChunk = 0;
+  const size_t guess = lastPath == &f && lastChunk < chunks ? lastChunk : 0;
+  auto chunk = [&](size_t c) {
+    return SegmentsMin(d, f, c * PathFields::kChunk, std::min(count, (c + 1) * PathFields::kChunk), x, y);
+  };
+  double best = chunk(guess);
+  size_t bestChunk = guess;
+  auto consider = [&](size_t c) {
+    if (c == guess) return;
+    const double v = chunk(c);
+    if (v < best) best = v, bestChunk = c;
+  };
+  const size_t lanes = hn::Lanes(d);
+  const auto px = hn::Set(d, x), py = hn::Set(d, y), zero = hn::Zero(d);
+  size_t c = 0;
+  for (; c + lanes <= chunks; c += lanes) {
+    const auto dx = hn::Max(hn::Max(hn::Sub(hn::LoadU(d, f.boxX0.data() + c), px), hn::Sub(px, hn::LoadU(d, f.boxX1.data() + c))), zero);
+    const auto dy = hn::Max(hn::Max(hn::Sub(hn::LoadU(d, f.boxY0.data() + c), py), hn::Sub(py, hn::LoadU(d, f.boxY1.data() + c))), zero);
+    const auto near = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+    const auto maybe = hn::Not(hn::Gt(near, hn::Set(d, best + 1e-6 + 1e-9 * best)));
+    if (hn::AllFalse(d, maybe)) continue;
+    uint8_t bits[8] = {};  // (up to 64 lanes)
+    hn::StoreMaskBits(d, maybe, bits);
+    for (size_t l = 0; l < lanes; ++l)
+      if ((bits[l / 8] >> (l % 8)) & 1) consider(c + l);
+  }
+  for (; c < chunks; ++c) {
+    const double dx = std::max(std::max(f.boxX0[c] - x, x - f.boxX1[c]), 0.0);
+    const double dy = std::max(std::max(f.boxY0[c] - y, y - f.boxY1[c]), 0.0);
+    if (!(dx * dx + dy * dy > best + 1e-6 + 1e-9 * best)) consider(c);
+  }
+  lastPath = &f, lastChunk = bestChunk;
+  return best;
+}
+
+bool InsideContour(const ContourEdges& e, double x, double y) {
+  // Only the edges of y's band can cross its row (ContourEdges); none outside the bands.
+  if (e.size() == 0 || !(y >= e.y0 && y <= e.y1)) return false;
+  const size_t band = e.bandOf(y), begin = e.bandStart[band], end = e.bandStart[band + 1];
+  const hn::ScalableTag<double> d;
+  const size_t lanes = hn::Lanes(d);
   const auto px = hn::Set(d, x), py = hn::Set(d, y);
-  size_t crossings = 0, i = 0;
-  for (; i + lanes <= count; i += lanes) {
+  size_t crossings = 0, i = begin;
+  for (; i + lanes <= end; i += lanes) {
     const auto ix = hn::LoadU(d, e.ix.data() + i), iy = hn::LoadU(d, e.iy.data() + i);
     const auto jx = hn::LoadU(d, e.jx.data() + i), jy = hn::LoadU(d, e.jy.data() + i);
     const auto straddles = hn::Xor(hn::VecFromMask(d, hn::Gt(iy, py)), hn::VecFromMask(d, hn::Gt(jy, py)));
@@ -107,7 +157,7 @@ bool InsideContour(const ContourEdges& e, double x, double y) {
     const auto xc = hn::Add(jx, hn::Div(hn::Mul(hn::Sub(py, jy), hn::Sub(ix, jx)), hn::Sub(iy, jy)));
     crossings += hn::CountTrue(d, hn::And(hn::MaskFromVec(straddles), hn::Lt(px, xc)));
   }
-  for (; i < count; ++i)
+  for (; i < end; ++i)
     if ((e.iy[i] > y) != (e.jy[i] > y)) {
       const double xc = e.jx[i] + (y - e.jy[i]) * (e.ix[i] - e.jx[i]) / (e.iy[i] - e.jy[i]);
       if (x < xc) ++crossings;
@@ -133,6 +183,19 @@ PathFields::PathFields(std::span<const PathSegment> segments) {
   for (auto* v : {&ax, &ay, &ex, &ey, &inv}) v->reserve(segments.size());
   for (const PathSegment& g : segments)
     ax.push_back(g.ax), ay.push_back(g.ay), ex.push_back(g.ex), ey.push_back(g.ey), inv.push_back(g.inv);
+  // Padded to whole chunks with the last segment again (a copy changes no min): a short path is
+  // one vector or two, not a scalar loop.
+  while (!ax.empty() && ax.size() % kChunk != 0)
+    ax.push_back(ax.back()), ay.push_back(ay.back()), ex.push_back(ex.back()), ey.push_back(ey.back()), inv.push_back(inv.back());
+  for (size_t c = 0; c * kChunk < ax.size(); ++c) {
+    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    for (size_t i = c * kChunk; i < (c + 1) * kChunk; ++i)
+      for (double t : {0.0, 1.0}) {
+        const double px = ax[i] + t * ex[i], py = ay[i] + t * ey[i];
+        x0 = std::min(x0, px), y0 = std::min(y0, py), x1 = std::max(x1, px), y1 = std::max(y1, py);
+      }
+    boxX0.push_back(x0), boxY0.push_back(y0), boxX1.push_back(x1), boxY1.push_back(y1);
+  }
 }
 
 double nearestDistance2(const PathFields& path, double x, double y) {
@@ -141,9 +204,27 @@ double nearestDistance2(const PathFields& path, double x, double y) {
 
 ContourEdges::ContourEdges(std::span<const double> xy) {
   const size_t n = xy.size() / 2;
-  for (auto* v : {&ix, &iy, &jx, &jy}) v->reserve(n);
-  for (size_t i = 0, j = n - 1; i < n; j = i++)
-    ix.push_back(xy[2 * i]), iy.push_back(xy[2 * i + 1]), jx.push_back(xy[2 * j]), jy.push_back(xy[2 * j + 1]);
+  if (n == 0) return;
+  y0 = 1e300, y1 = -1e300;
+  for (size_t i = 0; i < n; ++i) y0 = std::min(y0, xy[2 * i + 1]), y1 = std::max(y1, xy[2 * i + 1]);
+  // Bands of equal height, about four edges each; an edge is listed in every band its heights
+  // meet (bandOf() of its lowest and highest point and those between: bandOf() never decreases
+  // with y, so a row's band lists every edge that can cross it).
+  bands = std::clamp<size_t>(n / 4, 1, 4096);
+  invHeight = y1 > y0 ? static_cast<double>(bands) / (y1 - y0) : 0.0;
+  std::vector<std::vector<size_t>> in(bands);
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    const double a = xy[2 * i + 1], b = xy[2 * j + 1];
+    for (size_t k = bandOf(std::min(a, b)); k <= bandOf(std::max(a, b)); ++k) in[k].push_back(i);
+  }
+  bandStart.push_back(0);
+  for (const auto& list : in) {
+    for (size_t i : list) {
+      const size_t j = i == 0 ? n - 1 : i - 1;
+      ix.push_back(xy[2 * i]), iy.push_back(xy[2 * i + 1]), jx.push_back(xy[2 * j]), jy.push_back(xy[2 * j + 1]);
+    }
+    bandStart.push_back(ix.size());
+  }
 }
 
 bool insideContour(const ContourEdges& edges, double x, double y) {

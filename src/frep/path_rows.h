@@ -6,6 +6,8 @@
 // exporter's evaluations of the model spent a sixth of its time on them one at a time).
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -23,11 +25,14 @@ struct PathSegment {
 void nearestSegments(std::span<const PathSegment> segments, double y, const double* xs, int n,
                      std::uint32_t* best, double* bestV);
 
-// A path's segments again, field by field, for one point's distance a vector of segments at a time.
+// A path's segments again, field by field, for one point's distance a vector of segments at a time,
+// and the boxes of consecutive chunks of them (a chunk whose box is too far is passed over).
 struct PathFields {
+  static constexpr size_t kChunk = 8;
   std::vector<double> ax, ay, ex, ey, inv;
+  std::vector<double> boxX0, boxY0, boxX1, boxY1;  // chunk c's box: segments c kChunk .. (c + 1) kChunk - 1
   explicit PathFields(std::span<const PathSegment> segments = {});
-  size_t size() const { return ax.size(); }
+  size_t size() const { return ax.size(); }  // whole chunks: the last segment repeated
 };
 
 // The squared distance from (x, y) to the nearest segment (at least one): kernels::segmentDistance2's
@@ -36,11 +41,18 @@ struct PathFields {
 double nearestDistance2(const PathFields& path, double x, double y);
 
 // A closed contour's edges, each from point i - 1 (j) to point i (the last point to the first
-// for i = 0), field by field.
+// for i = 0), field by field, listed by bands of height: a row's inside test reads its band's.
 struct ContourEdges {
-  std::vector<double> ix, iy, jx, jy;
+  std::vector<double> ix, iy, jx, jy;  // band b's edges: bandStart[b] .. bandStart[b + 1] - 1
+  std::vector<size_t> bandStart;
+  double y0 = 0.0, y1 = -1.0, invHeight = 0.0;  // the contour's heights; bands per unit of height
+  size_t bands = 0;
   explicit ContourEdges(std::span<const double> xy = {});  // x0, y0, x1, y1, ...
-  size_t size() const { return ix.size(); }
+  size_t size() const { return ix.size(); }  // edges listed (an edge once in each band it meets)
+  size_t bandOf(double y) const {
+    const double b = (y - y0) * invHeight;
+    return b <= 0.0 ? 0 : std::min(bands - 1, static_cast<size_t>(b));
+  }
 };
 
 // The odd-parity (even-odd) inside test of (x, y): the edges that cross its row at an x above it,
