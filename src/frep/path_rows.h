@@ -55,8 +55,9 @@ struct ContourEdges {
   }
 };
 
-// The odd-parity (even-odd) inside test of (x, y): the edges that cross its row at an x above it,
-// each crossing found in the scalar test's operations (operation.cpp's insideContour).
+// The odd-parity (even-odd) inside test of (x, y): the edges that cross its row (one end above y,
+// the other not) at an x above it, each crossing at jx + (y - jy) (ix - jx) / (iy - jy) in that
+// order of operations, as the scalar test had it (PreparedOp::offsetRow's crossings too).
 bool insideContour(const ContourEdges& edges, double x, double y);
 
 // The instruction set nearestSegments runs on here ("AVX3", "AVX2", "NEON", "EMU128", ...).
