@@ -347,8 +347,7 @@ T PreparedOp::pathDistance2(const T& x, const T& y) const {
   if constexpr (std::is_same_v<T, Grad>) {
     if (segments_.empty()) return polylineDistance2(x, y, op_.points, closed);
     std::uint32_t best = 0;
-    double bestV = 0.0;
-    nearestSegments(segments_, y.v, &x.v, 1, &best, &bestV);
+    (void)nearestSegment(pathFields_, x.v, y.v, &best);  // (a vector of segments at a time, long paths by chunks)
     return segmentDistance2(best, x, y);
   } else if constexpr (std::is_same_v<T, double>) {
     // A vector of segments at a time (path_rows.h): the same value.

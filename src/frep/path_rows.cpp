@@ -68,77 +68,96 @@ void NearestSegments(const PathSegment* segs, std::uint32_t count, double y, con
   }
 }
 
-// The least squared distance from (x, y) to segments [begin, end) of the path: kernels::
-// segmentDistance2 for each (a zero-length segment's inv is 0: t is 0 and q is p, its value too).
-template <class D>
-HWY_INLINE double SegmentsMin(D d, const PathFields& f, size_t begin, size_t end, double x, double y) {
+// Segments [begin, end) of the path (whole vectors) into each lane's least squared distance from
+// (px, py) and the first segment with it: kernels::segmentDistance2 for each (a zero-length
+// segment's inv is 0: t is 0 and q is p, its value too); a segment replaces a lane's when its
+// value is less, or equal with a lower index (chunks come in any order).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void SegmentsInto(D d, const PathFields& f, size_t begin, size_t end, V px, V py, V& best, V& at) {
   const size_t lanes = hn::Lanes(d);
-  const auto px = hn::Set(d, x), py = hn::Set(d, y), zero = hn::Zero(d), one = hn::Set(d, 1.0);
-  auto best = hn::Set(d, std::numeric_limits<double>::infinity());
-  size_t i = begin;
-  for (; i + lanes <= end; i += lanes) {
-    const auto qx0 = hn::Sub(px, hn::LoadU(d, f.ax.data() + i)), qy0 = hn::Sub(py, hn::LoadU(d, f.ay.data() + i));
-    const auto ex = hn::LoadU(d, f.ex.data() + i), ey = hn::LoadU(d, f.ey.data() + i);
-    auto t = hn::Mul(hn::Add(hn::Mul(qx0, ex), hn::Mul(qy0, ey)), hn::LoadU(d, f.inv.data() + i));
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), lane = hn::Iota(d, 0.0);
+  for (size_t i = begin; i < end; i += lanes) {
+    const V qx0 = hn::Sub(px, hn::LoadU(d, f.ax.data() + i)), qy0 = hn::Sub(py, hn::LoadU(d, f.ay.data() + i));
+    const V ex = hn::LoadU(d, f.ex.data() + i), ey = hn::LoadU(d, f.ey.data() + i);
+    V t = hn::Mul(hn::Add(hn::Mul(qx0, ex), hn::Mul(qy0, ey)), hn::LoadU(d, f.inv.data() + i));
     t = hn::Min(hn::Max(t, zero), one);
-    const auto qx = hn::Sub(qx0, hn::Mul(t, ex)), qy = hn::Sub(qy0, hn::Mul(t, ey));
-    best = hn::Min(best, hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy)));
+    const V qx = hn::Sub(qx0, hn::Mul(t, ex)), qy = hn::Sub(qy0, hn::Mul(t, ey));
+    const V v = hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy)), index = hn::Add(lane, hn::Set(d, static_cast<double>(i)));
+    const auto take = hn::Or(hn::Lt(v, best), hn::And(hn::Eq(v, best), hn::Lt(index, at)));
+    best = hn::IfThenElse(take, v, best);
+    at = hn::IfThenElse(take, index, at);
   }
-  double v = hn::GetLane(hn::MinOfLanes(d, best));
-  for (; i < end; ++i) {
-    const double qx0 = x - f.ax[i], qy0 = y - f.ay[i];
-    double t = (qx0 * f.ex[i] + qy0 * f.ey[i]) * f.inv[i];
-    t = std::min(std::max(t, 0.0), 1.0);
-    const double qx = qx0 - t * f.ex[i], qy = qy0 - t * f.ey[i];
-    v = std::min(v, qx * qx + qy * qy);
-  }
+}
+
+// The least of the lanes' values, and the lowest segment of the lanes holding it.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE double LeastOf(D d, V best, V at, size_t* index) {
+  const double v = hn::GetLane(hn::MinOfLanes(d, best));
+  *index = static_cast<size_t>(hn::GetLane(
+      hn::MinOfLanes(d, hn::IfThenElse(hn::Eq(best, hn::Set(d, v)), at, hn::Set(d, std::numeric_limits<double>::infinity())))));
   return v;
 }
 
-double NearestDistance2(const PathFields& f, double x, double y) {
+double NearestSegment(const PathFields& f, double x, double y, uint32_t* index) {
   const hn::ScalableTag<double> d;
-  const size_t chunks = f.boxX0.size(), count = f.size();
-  if (chunks <= 8) return SegmentsMin(d, f, 0, count, x, y);  // (a short path: every segment, no boxes)
+  const size_t lanes = hn::Lanes(d), chunks = f.boxX0.size(), count = f.size();
+  size_t at = 0;
+  double value = 0.0;
+  if (PathFields::kChunk % lanes != 0) {
+    // Vectors wider than a chunk (SVE's widest): one segment at a time, the first of the least.
+    for (size_t i = 0; i < f.segments; ++i) {
+      const double qx0 = x - f.ax[i], qy0 = y - f.ay[i];
+      double t = (qx0 * f.ex[i] + qy0 * f.ey[i]) * f.inv[i];
+      t = std::min(std::max(t, 0.0), 1.0);
+      const double qx = qx0 - t * f.ex[i], qy = qy0 - t * f.ey[i], v = qx * qx + qy * qy;
+      if (i == 0 || v < value) value = v, at = i;
+    }
+    *index = static_cast<uint32_t>(at);
+    return value;
+  }
+  const auto px = hn::Set(d, x), py = hn::Set(d, y);
+  auto best = hn::Set(d, std::numeric_limits<double>::infinity()), where = best;
+  if (chunks <= 8) {  // (a short path: every segment, no boxes)
+    SegmentsInto(d, f, 0, count, px, py, best, where);
+    value = LeastOf(d, best, where, &at);
+    *index = static_cast<uint32_t>(std::min(at, f.segments - 1));  // (a padding copy ties with the last)
+    return value;
+  }
   // By chunks of consecutive segments: first the chunk that held this thread's last nearest
   // segment of this path (the exporter's and the tracers' points come in order: the nearest
   // chunk then is mostly the one before), then every other chunk whose box is not farther than
-  // the least distance so far by more than rounding can account for (a micrometre squared: the
-  // segments' values err by far less). A chunk passed over holds no segment whose value is below
-  // the least one: the min is the same value, whichever chunk came first.
+  // that chunk's least distance by more than rounding can account for (a micrometre squared: the
+  // segments' values err by far less). A chunk passed over holds no segment whose value is at
+  // most the least one: the min is the same value, and its first segment the same, whichever
+  // chunk came first.
   thread_local const PathFields* lastPath = nullptr;
   thread_local size_t lastChunk = 0;
   const size_t guess = lastPath == &f && lastChunk < chunks ? lastChunk : 0;
-  auto chunk = [&](size_t c) {
-    return SegmentsMin(d, f, c * PathFields::kChunk, std::min(count, (c + 1) * PathFields::kChunk), x, y);
-  };
-  double best = chunk(guess);
-  size_t bestChunk = guess;
-  auto consider = [&](size_t c) {
-    if (c == guess) return;
-    const double v = chunk(c);
-    if (v < best) best = v, bestChunk = c;
-  };
-  const size_t lanes = hn::Lanes(d);
-  const auto px = hn::Set(d, x), py = hn::Set(d, y), zero = hn::Zero(d);
+  auto chunk = [&](size_t c) { SegmentsInto(d, f, c * PathFields::kChunk, (c + 1) * PathFields::kChunk, px, py, best, where); };
+  chunk(guess);
+  const double first = LeastOf(d, best, where, &at);
+  const double reach = first + 1e-6 + 1e-9 * first;
+  const auto zero = hn::Zero(d);
   size_t c = 0;
   for (; c + lanes <= chunks; c += lanes) {
     const auto dx = hn::Max(hn::Max(hn::Sub(hn::LoadU(d, f.boxX0.data() + c), px), hn::Sub(px, hn::LoadU(d, f.boxX1.data() + c))), zero);
     const auto dy = hn::Max(hn::Max(hn::Sub(hn::LoadU(d, f.boxY0.data() + c), py), hn::Sub(py, hn::LoadU(d, f.boxY1.data() + c))), zero);
-    const auto near = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
-    const auto maybe = hn::Not(hn::Gt(near, hn::Set(d, best + 1e-6 + 1e-9 * best)));
+    const auto maybe = hn::Not(hn::Gt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Set(d, reach)));
     if (hn::AllFalse(d, maybe)) continue;
     uint8_t bits[8] = {};  // (up to 64 lanes)
     hn::StoreMaskBits(d, maybe, bits);
     for (size_t l = 0; l < lanes; ++l)
-      if ((bits[l / 8] >> (l % 8)) & 1) consider(c + l);
+      if (c + l != guess && ((bits[l / 8] >> (l % 8)) & 1)) chunk(c + l);
   }
   for (; c < chunks; ++c) {
     const double dx = std::max(std::max(f.boxX0[c] - x, x - f.boxX1[c]), 0.0);
     const double dy = std::max(std::max(f.boxY0[c] - y, y - f.boxY1[c]), 0.0);
-    if (!(dx * dx + dy * dy > best + 1e-6 + 1e-9 * best)) consider(c);
+    if (c != guess && !(dx * dx + dy * dy > reach)) chunk(c);
   }
-  lastPath = &f, lastChunk = bestChunk;
-  return best;
+  value = LeastOf(d, best, where, &at);
+  lastPath = &f, lastChunk = at / PathFields::kChunk;
+  *index = static_cast<uint32_t>(std::min(at, f.segments - 1));  // (a padding copy ties with the last)
+  return value;
 }
 
 bool InsideContour(const ContourEdges& e, double x, double y) {
@@ -175,7 +194,7 @@ HWY_AFTER_NAMESPACE();
 namespace emboss {
 
 HWY_EXPORT(NearestSegments);
-HWY_EXPORT(NearestDistance2);
+HWY_EXPORT(NearestSegment);
 HWY_EXPORT(InsideContour);
 HWY_EXPORT(TargetName);
 
@@ -183,6 +202,7 @@ PathFields::PathFields(std::span<const PathSegment> segments) {
   for (auto* v : {&ax, &ay, &ex, &ey, &inv}) v->reserve(segments.size());
   for (const PathSegment& g : segments)
     ax.push_back(g.ax), ay.push_back(g.ay), ex.push_back(g.ex), ey.push_back(g.ey), inv.push_back(g.inv);
+  this->segments = segments.size();
   // Padded to whole chunks with the last segment again (a copy changes no min): a short path is
   // one vector or two, not a scalar loop.
   while (!ax.empty() && ax.size() % kChunk != 0)
@@ -199,7 +219,12 @@ PathFields::PathFields(std::span<const PathSegment> segments) {
 }
 
 double nearestDistance2(const PathFields& path, double x, double y) {
-  return HWY_DYNAMIC_DISPATCH(NearestDistance2)(path, x, y);
+  std::uint32_t index = 0;
+  return HWY_DYNAMIC_DISPATCH(NearestSegment)(path, x, y, &index);
+}
+
+double nearestSegment(const PathFields& path, double x, double y, std::uint32_t* index) {
+  return HWY_DYNAMIC_DISPATCH(NearestSegment)(path, x, y, index);
 }
 
 ContourEdges::ContourEdges(std::span<const double> xy) {

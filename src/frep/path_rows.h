@@ -31,14 +31,18 @@ struct PathFields {
   static constexpr size_t kChunk = 8;
   std::vector<double> ax, ay, ex, ey, inv;
   std::vector<double> boxX0, boxY0, boxX1, boxY1;  // chunk c's box: segments c kChunk .. (c + 1) kChunk - 1
+  size_t segments = 0;  // the path's own (the fields hold whole chunks: the last one repeated)
   explicit PathFields(std::span<const PathSegment> segments = {});
-  size_t size() const { return ax.size(); }  // whole chunks: the last segment repeated
+  size_t size() const { return ax.size(); }
 };
 
 // The squared distance from (x, y) to the nearest segment (at least one): kernels::segmentDistance2's
 // value for each segment, in its operations, and their min: the same value, bit for bit, as the
 // segments one at a time.
 double nearestDistance2(const PathFields& path, double x, double y);
+// The same, and the first segment with that value (*index), as nearestSegments() has it for one
+// point: the same segment.
+double nearestSegment(const PathFields& path, double x, double y, std::uint32_t* index);
 
 // A closed contour's edges, each from point i - 1 (j) to point i (the last point to the first
 // for i = 0), field by field, listed by bands of height: a row's inside test reads its band's.

@@ -77,7 +77,8 @@ TEST(PathRows, OnePointsNearestDistanceIsEachSegmentsMin) {
       const double ax = u(rng), ay = u(rng);
       const double ex = s % 6 == 5 ? 0.0 : u(rng), ey = s % 6 == 5 ? 0.0 : u(rng);  // a repeated point
       const double len2 = ex * ex + ey * ey;
-      segs.push_back({ax, ay, ex, ey, len2 <= 0.0 ? 0.0 : 1.0 / len2});
+      // Some segments again, exactly: equal distances, of which the first is the nearest.
+      segs.push_back(s % 9 == 8 ? segs[static_cast<size_t>(s / 3)] : PathSegment{ax, ay, ex, ey, len2 <= 0.0 ? 0.0 : 1.0 / len2});
     }
     const PathFields fields(segs);
     ASSERT_EQ(fields.size(), (segs.size() + 7) / 8 * 8);  // (whole chunks of 8: the last repeated)
@@ -91,6 +92,9 @@ TEST(PathRows, OnePointsNearestDistanceIsEachSegmentsMin) {
       double rv = 0.0;
       referenceNearest(segs, y, x, &rb, &rv);
       ASSERT_EQ(nearestDistance2(fields, x, y), rv) << count << " segments, point " << k << " on " << simdTargetName();
+      std::uint32_t at = 99;
+      ASSERT_EQ(nearestSegment(fields, x, y, &at), rv);
+      ASSERT_EQ(at, rb) << count << " segments, point " << k;
     }
   }
 }
@@ -107,6 +111,8 @@ TEST(PathRows, AChunkPassedOverHoldsNoNearerSegment) {
     segs.push_back({px, py, ex, ey, len2 <= 0.0 ? 0.0 : 1.0 / len2});
     px = qx, py = qy;
   }
+  // The path going back over some of its segments, exactly, chunks later: the first is nearest.
+  for (size_t k = 0; k < 24; ++k) segs.push_back(segs[40 + 3 * k]);
   const PathFields fields(segs);
   ASSERT_GT(fields.boxX0.size(), 30u);
   std::mt19937 rng(29);
@@ -120,6 +126,9 @@ TEST(PathRows, AChunkPassedOverHoldsNoNearerSegment) {
     double rv = 0.0;
     referenceNearest(segs, y, x, &rb, &rv);
     ASSERT_EQ(nearestDistance2(fields, x, y), rv) << "point " << k << " at " << x << ", " << y;
+    std::uint32_t at = 9999;
+    ASSERT_EQ(nearestSegment(fields, x, y, &at), rv);
+    ASSERT_EQ(at, rb) << "point " << k << " at " << x << ", " << y;
   }
 }
 
