@@ -98,9 +98,12 @@ HWY_INLINE double LeastOf(D d, V best, V at, size_t* index) {
   return v;
 }
 
+// Paths of at most this many chunks are read whole, their boxes not looked at.
+constexpr size_t kUnboxedChunks = 8;
+
 double NearestSegment(const PathFields& f, double x, double y, uint32_t* index) {
   const hn::ScalableTag<double> d;
-  const size_t lanes = hn::Lanes(d), chunks = f.boxX0.size(), count = f.size();
+  const size_t lanes = hn::Lanes(d), chunks = f.size() / PathFields::kChunk, count = f.size();
   size_t at = 0;
   double value = 0.0;
   if (PathFields::kChunk % lanes != 0) {
@@ -117,7 +120,7 @@ double NearestSegment(const PathFields& f, double x, double y, uint32_t* index) 
   }
   const auto px = hn::Set(d, x), py = hn::Set(d, y);
   auto best = hn::Set(d, std::numeric_limits<double>::infinity()), where = best;
-  if (chunks <= 8) {  // (a short path: every segment, no boxes)
+  if (chunks <= kUnboxedChunks) {  // (a short path: every segment, no boxes)
     SegmentsInto(d, f, 0, count, px, py, best, where);
     value = LeastOf(d, best, where, &at);
     *index = static_cast<uint32_t>(std::min(at, f.segments - 1));  // (a padding copy ties with the last)
@@ -138,8 +141,7 @@ double NearestSegment(const PathFields& f, double x, double y, uint32_t* index) 
   const double first = LeastOf(d, best, where, &at);
   const double reach = first + 1e-6 + 1e-9 * first;
   const auto zero = hn::Zero(d);
-  size_t c = 0;
-  for (; c + lanes <= chunks; c += lanes) {
+  for (size_t c = 0; c < chunks; c += lanes) {  // (the boxes come in whole vectors: PathFields)
     const auto dx = hn::Max(hn::Max(hn::Sub(hn::LoadU(d, f.boxX0.data() + c), px), hn::Sub(px, hn::LoadU(d, f.boxX1.data() + c))), zero);
     const auto dy = hn::Max(hn::Max(hn::Sub(hn::LoadU(d, f.boxY0.data() + c), py), hn::Sub(py, hn::LoadU(d, f.boxY1.data() + c))), zero);
     const auto maybe = hn::Not(hn::Gt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Set(d, reach)));
@@ -148,11 +150,6 @@ double NearestSegment(const PathFields& f, double x, double y, uint32_t* index) 
     hn::StoreMaskBits(d, maybe, bits);
     for (size_t l = 0; l < lanes; ++l)
       if (c + l != guess && ((bits[l / 8] >> (l % 8)) & 1)) chunk(c + l);
-  }
-  for (; c < chunks; ++c) {
-    const double dx = std::max(std::max(f.boxX0[c] - x, x - f.boxX1[c]), 0.0);
-    const double dy = std::max(std::max(f.boxY0[c] - y, y - f.boxY1[c]), 0.0);
-    if (c != guess && !(dx * dx + dy * dy > reach)) chunk(c);
   }
   value = LeastOf(d, best, where, &at);
   lastPath = &f, lastChunk = at / PathFields::kChunk;
@@ -216,6 +213,9 @@ PathFields::PathFields(std::span<const PathSegment> segments) {
       }
     boxX0.push_back(x0), boxY0.push_back(y0), boxX1.push_back(x1), boxY1.push_back(y1);
   }
+  // The boxes too to whole chunks, with empty ones (infinitely far: never read): a chunk's test
+  // takes whole vectors of boxes.
+  while (boxX0.size() % kChunk != 0) boxX0.push_back(1e300), boxY0.push_back(1e300), boxX1.push_back(-1e300), boxY1.push_back(-1e300);
 }
 
 double nearestDistance2(const PathFields& path, double x, double y) {

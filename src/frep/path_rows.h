@@ -30,7 +30,8 @@ void nearestSegments(std::span<const PathSegment> segments, double y, const doub
 struct PathFields {
   static constexpr size_t kChunk = 8;
   std::vector<double> ax, ay, ex, ey, inv;
-  std::vector<double> boxX0, boxY0, boxX1, boxY1;  // chunk c's box: segments c kChunk .. (c + 1) kChunk - 1
+  // Chunk c's box: segments c kChunk .. (c + 1) kChunk - 1 (then empty boxes, to whole vectors).
+  std::vector<double> boxX0, boxY0, boxX1, boxY1;
   size_t segments = 0;  // the path's own (the fields hold whole chunks: the last one repeated)
   explicit PathFields(std::span<const PathSegment> segments = {});
   size_t size() const { return ax.size(); }
