@@ -229,17 +229,16 @@ class BlockMesher {
   BlockOut* out_ = nullptr;
 };
 
-// |f| / |grad f| at a point: the first-order distance to the surface.
+}  // namespace
+
+namespace mesh_detail {
+
 double distanceAt(const Model& model, const OpGrid& grid, double x, double y, double z, std::vector<std::uint32_t>& scratch) {
   const auto cand = grid.at(x, y, scratch);
   const Grad g = model.evaluate(P3<Grad>{{x, 1, 0, 0}, {y, 0, 1, 0}, {z, 0, 0, 1}}, cand);
   const double len = std::sqrt(g.dx * g.dx + g.dy * g.dy + g.dz * g.dz);
   return len > 0.0 ? std::abs(g.v) / len : 0.0;
 }
-
-}  // namespace
-
-namespace mesh_detail {
 
 SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxError) {
   return [&model, &grid, maxError](const std::array<float, 3>& a, const std::array<float, 3>& b,
@@ -254,88 +253,6 @@ SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxErro
     return near(1.0 / 3, 1.0 / 3, 1.0 / 3) && near(0.5, 0.5, 0) && near(0, 0.5, 0.5) && near(0.5, 0, 0.5) &&
            near(t, s, s) && near(s, t, s) && near(s, s, t);
   };
-}
-
-size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid) {
-  auto& V = mesh.vertices;
-  const auto& T = mesh.triangles;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
-  edges.reserve(3 * T.size());
-  for (std::uint32_t t = 0; t < T.size(); ++t)
-    for (int k = 0; k < 3; ++k) edges.push_back({(std::uint64_t{T[t][k]} << 32) | T[t][(k + 1) % 3], t});
-  std::sort(edges.begin(), edges.end());
-  auto across = [&](std::uint32_t u, std::uint32_t v) {  // the triangle with edge v -> u
-    const std::uint64_t key = (std::uint64_t{v} << 32) | u;
-    auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(key, std::uint32_t{0}));
-    return it != edges.end() && it->first == key ? it->second : UINT32_MAX;
-  };
-  auto folded = [&](std::uint32_t a, std::uint32_t b) {
-    return a != UINT32_MAX && b != UINT32_MAX && foldsAcross(V, T[a], T[b]);
-  };
-  std::vector<std::uint32_t> at;  // the folds' vertices
-  for (const auto& [key, t] : edges) {
-    const std::uint32_t u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
-    if (u < v && folded(t, across(u, v))) at.insert(at.end(), {T[t][0], T[t][1], T[t][2]});
-  }
-  if (at.empty()) return 0;
-  std::sort(at.begin(), at.end());
-  at.erase(std::unique(at.begin(), at.end()), at.end());
-  std::vector<std::vector<std::uint32_t>> fan(at.size());
-  for (std::uint32_t t = 0; t < T.size(); ++t)
-    for (std::uint32_t v : T[t])
-      if (auto it = std::lower_bound(at.begin(), at.end(), v); it != at.end() && *it == v) fan[it - at.begin()].push_back(t);
-  // Folds on the edges of a vertex's fan (each once), and whether a fan triangle is thin.
-  auto around = [&](const std::vector<std::uint32_t>& f, bool& thin) {
-    size_t folds = 0;
-    thin = false;
-    std::vector<std::uint64_t> seen;
-    for (std::uint32_t t : f) {
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t o = across(T[t][k], T[t][(k + 1) % 3]);
-        const std::uint64_t pair = (std::uint64_t{std::min(t, o)} << 32) | std::max(t, o);
-        if (std::find(seen.begin(), seen.end(), pair) != seen.end()) continue;
-        seen.push_back(pair);
-        folds += folded(t, o);
-      }
-      thin = thin || shape(V[T[t][0]].data(), V[T[t][1]].data(), V[T[t][2]].data()) < static_cast<float>(kThin);
-    }
-    return folds;
-  };
-  std::vector<std::uint32_t> scratch;
-  size_t moved = 0;
-  for (int sweep = 0; sweep < 3; ++sweep)
-    for (size_t i = 0; i < at.size(); ++i) {
-      const std::uint32_t v = at[i];
-      bool thinBefore;
-      const size_t before = around(fan[i], thinBefore);
-      if (before == 0) continue;
-      // The neighbours' centre, then onto the surface.
-      double c[3] = {0, 0, 0};
-      int count = 0;
-      for (std::uint32_t t : fan[i])
-        for (std::uint32_t w : T[t])
-          if (w != v) {
-            for (int k = 0; k < 3; ++k) c[k] += V[w][k];
-            ++count;
-          }
-      for (int k = 0; k < 3; ++k) c[k] /= count;
-      double dist = 1e30;
-      for (int step = 0; step <= 4; ++step) {  // four steps, then the distance where they end
-        const Grad g = model.evaluate(P3<Grad>{{c[0], 1, 0, 0}, {c[1], 0, 1, 0}, {c[2], 0, 0, 1}}, grid.at(c[0], c[1], scratch));
-        const double len2 = g.dx * g.dx + g.dy * g.dy + g.dz * g.dz;
-        dist = len2 > 0.0 ? std::abs(g.v) / std::sqrt(len2) : 1e30;
-        if (step == 4 || !(len2 > 0.0)) break;
-        c[0] -= g.v * g.dx / len2, c[1] -= g.v * g.dy / len2, c[2] -= g.v * g.dz / len2;
-      }
-      if (!(dist < 1e-4)) continue;
-      const auto old = V[v];
-      V[v] = {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
-      bool thinAfter;
-      const size_t after = around(fan[i], thinAfter);
-      if (after < before && (!thinAfter || thinBefore)) ++moved;
-      else V[v] = old;
-    }
-  return moved;
 }
 
 }  // namespace mesh_detail
@@ -515,8 +432,10 @@ Result<TriangleMesh> meshModel(const Model& model, const MeshOptions& options, M
       mesh.triangles = std::move(before);
     }
   }
-  // The fine mesh's own folds left (no removal took them out): their vertices moved along the
-  // surface ("Folds moved out", docs/exports.md).
+  // The fine mesh's own folds left (no removal took them out): flipped where they cut under a
+  // ridge, then their vertices moved along the surface ("Fins on a ridge flipped" and "Folds moved
+  // out", docs/exports.md).
+  st.flippedEdges = flipFoldEdges(mesh, model, opGrid);
   st.movedVertices = moveOutOfFolds(mesh, model, opGrid);
   report(0.9);
 

@@ -49,6 +49,7 @@ struct MeshStats {
   double planeX = 0.0, planeY = 0.0;
   std::size_t foldVertices = 0;  // vertices removed to take out folds the decimation left
   std::size_t thinVertices = 0;  // and thin triangles (height under 1/1000 of the longest edge)
+  std::size_t flippedEdges = 0;   // fold edges of the fine mesh's own flipped along a ridge
   std::size_t movedVertices = 0;  // vertices moved along the surface out of the fine mesh's own folds
   double volume = 0.0;  // mm^3, from the final mesh
   double area = 0.0;    // mm^2

@@ -71,6 +71,8 @@ VertexRemovals removeFoldsAndThinTriangles(std::vector<unsigned int>& ix, size_t
 // the seam too, and simplify it again; a triangle that makes is kept only where `onSurface` finds
 // it within maxError of the model's surface (meshoptimizer measures its error against what it is
 // given, here already simplified triangles, not against the fine mesh).
+// |f| / |grad f| at a point: the first-order distance to the model's surface.
+double distanceAt(const Model& model, const OpGrid& grid, double x, double y, double z, std::vector<std::uint32_t>& scratch);
 using SurfaceCheck = std::function<bool(const std::array<float, 3>&, const std::array<float, 3>&,
                                         const std::array<float, 3>&)>;
 // Whether a triangle lies within maxError of the model's surface: its first-order distance
@@ -86,6 +88,13 @@ size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX,
 // triangles stay as they are, so the mesh stays closed and manifold. Three sweeps over the folds'
 // vertices. Returns how many moves were kept.
 size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid);
+// Before the moves: each fold edge whose two triangles make a quad is flipped to the quad's other
+// diagonal where that leaves fewer folds on the quad's five edges, no thin triangle and no new
+// triangle further from the surface than the two before (at seven points each, as surfaceCheck()).
+// Marching tetrahedra cut across a sharp ridge (a bowl's rim: its wall and its inner face) with an
+// edge under it and two fins up to the ridge; the flip's diagonal runs along the ridge instead.
+// Sweeps until none is flipped (at most eight). Returns how many flips were kept.
+size_t flipFoldEdges(TriangleMesh& mesh, const Model& model, const OpGrid& grid);
 
 }  // namespace mesh_detail
 }  // namespace emboss

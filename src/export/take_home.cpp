@@ -129,9 +129,9 @@ Status writeTakeHome(const Scene& scene, const Model& model, const TakeHomeOptio
   }
   std::snprintf(line, sizeof line,
                 "mesh: %zu triangles (%zu before decimation; %zu vertices taken out of folds, %zu of thin triangles, "
-                "%zu moved out of folds), %zu vertices, cell %.4g mm, volume %.1f mm^3, area %.1f mm^2, distance to the "
+                "%zu fold edges flipped, %zu vertices moved out of folds), %zu vertices, cell %.4g mm, volume %.1f mm^3, area %.1f mm^2, distance to the "
                 "surface: vertices max %.4f mean %.5f mm, faces max %.4f mm, %.1f s",
-                st.triangles, st.fineTriangles, st.foldVertices, st.thinVertices, st.movedVertices, st.vertices, st.cell,
+                st.triangles, st.fineTriangles, st.foldVertices, st.thinVertices, st.flippedEdges, st.movedVertices, st.vertices, st.cell,
                 st.volume, st.area,
                 st.vertexMax, st.vertexMean, st.faceMax, st.seconds);
   if (summary) *summary = line;

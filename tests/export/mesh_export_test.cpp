@@ -448,6 +448,99 @@ TEST(MeshExport, AFoldsVertexIsMovedAlongTheSurface) {
   EXPECT_EQ(checkClosedManifold(*mesh), "");
 }
 
+// A bowl's rim is a sharp ridge: its wall meets its inner face at an acute angle. At a 0.4 mm cell
+// marching tetrahedra cut under it in places, with an edge from the wall to the inner face and two
+// thin fins up to the ridge, folded against each other (4 fold edges were left on this bowl before
+// the flips; the vertices' moves could not take them out).
+TEST(MeshExport, ABowlsRimHasNoFins) {
+  const Model model = modelOf(R"({"deformation":"sheet","workpiece":{"type":"bowl","r":30,"depth":8,"d":0.5},
+    "operations":[{"op":"trace","side":"front","a":0.8,"points":[[-20,-5],[-5,10],[10,5],[22,-8]]},
+     {"op":"punch","side":"back","a":4,"p":0.6,"q":1.0,"at":[0,0,0.5]},
+     {"op":"punch","side":"front","a":3,"p":0.5,"q":1.0,"at":[15,-10,0.5]}]})");
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.4;
+  MeshStats st;
+  auto mesh = meshModel(model, o, &st);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  std::printf("bowl: %zu triangles, %zu fold edges flipped, %zu vertices moved; fold edges %zu, thin %zu\n",
+              st.triangles, st.flippedEdges, st.movedVertices, foldEdges(*mesh), thinTriangles(*mesh));
+  EXPECT_TRUE(st.decimated);
+  EXPECT_GE(st.flippedEdges, 1u);
+  EXPECT_EQ(foldEdges(*mesh), 0u);
+  EXPECT_EQ(thinTriangles(*mesh), 0u);
+  EXPECT_EQ(checkClosedManifold(*mesh), "");
+  EXPECT_LT(st.vertexMax, 0.05);
+}
+
+// The same fin made by hand on the test plate's fine mesh: an edge along its rim (the front face
+// and a side wall) flipped to the quad's other diagonal, which runs under the rim. The flips put
+// the edge back along the rim: the same triangles as before, no fold, closed and manifold.
+TEST(MeshExport, AFinUnderARidgeIsFlippedAlongIt) {
+  const Model model = modelOf(kPlate);
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.4;
+  o.maxError = 0.0;
+  auto mesh = meshModel(model, o);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  const size_t folds0 = foldEdges(*mesh);
+  auto& T = mesh->triangles;
+  const auto& V = mesh->vertices;
+  auto normal = [&](const std::array<std::uint32_t, 3>& t) {
+    const auto &a = V[t[0]], &b = V[t[1]], &c = V[t[2]];
+    const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+    const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    return std::array<double, 3>{n[0] / l, n[1] / l, n[2] / l};
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> owner;
+  for (std::uint32_t t = 0; t < T.size(); ++t)
+    for (int k = 0; k < 3; ++k) owner[{T[t][k], T[t][(k + 1) % 3]}] = t;
+  auto sorted = [](std::vector<std::array<std::uint32_t, 3>> ts) {
+    for (auto& t : ts) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    std::sort(ts.begin(), ts.end());
+    return ts;
+  };
+  const auto original = sorted(T);
+  // An edge c -> d of the front face's rim (one triangle facing up, the other sideways), whose
+  // flip to the other diagonal folds.
+  bool made = false;
+  for (const auto& [e, t1] : owner) {
+    const auto [c, d] = e;
+    const auto it = owner.find({d, c});
+    if (it == owner.end()) continue;
+    const std::uint32_t t2 = it->second;
+    const auto n1 = normal(T[t1]), n2 = normal(T[t2]);
+    if (!(std::max(n1[2], n2[2]) > 0.9 && std::min(std::abs(n1[2]), std::abs(n2[2])) < 0.1)) continue;
+    auto third = [&](const std::array<std::uint32_t, 3>& t) {
+      for (std::uint32_t w : t)
+        if (w != c && w != d) return w;
+      return UINT32_MAX;
+    };
+    const std::uint32_t u = third(T[t1]), v = third(T[t2]);  // t1 = (c, d, u), t2 = (d, c, v)
+    if (owner.count({u, v}) || owner.count({v, u})) continue;
+    const auto keep1 = T[t1], keep2 = T[t2];
+    T[t1] = {u, c, v}, T[t2] = {v, d, u};
+    if (foldEdges(*mesh) > folds0 && checkClosedManifold(*mesh).empty()) {
+      made = true;
+      break;
+    }
+    T[t1] = keep1, T[t2] = keep2;
+  }
+  ASSERT_TRUE(made) << "no edge of the rim whose flip folds";
+  const size_t folds1 = foldEdges(*mesh);
+  OpGrid grid;
+  grid.sync(model);
+  const size_t flipped = mesh_detail::flipFoldEdges(*mesh, model, grid);
+  std::printf("fold edges %zu, with the fin %zu, after %zu flips %zu\n", folds0, folds1, flipped, foldEdges(*mesh));
+  EXPECT_EQ(flipped, 1u);
+  EXPECT_EQ(foldEdges(*mesh), folds0);
+  EXPECT_EQ(sorted(T), original);
+  EXPECT_EQ(checkClosedManifold(*mesh), "");
+}
+
 TEST(MeshExport, AFoldedVertexIsTakenOutAndItsHoleFilled) {
   FlatGrid g;
   const unsigned int v = g.id(3, 3);
