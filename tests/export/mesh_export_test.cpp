@@ -84,6 +84,15 @@ Result<TriangleMesh> finePlate(MeshStats& st) {
   return meshModel(modelOf(kPlate), o, &st);
 }
 
+// The test plate's fine mesh at 0.4 mm: no fold, its flat front face wide between the relief.
+Result<TriangleMesh> coarseFinePlate(const Model& plate) {
+  MeshOptions o;
+  o.threads = 2;
+  o.cell = 0.4;
+  o.maxError = 0.0;
+  return meshModel(plate, o);
+}
+
 // Triangles whose height is under 1/1000 of their longest edge.
 size_t thinTriangles(const TriangleMesh& mesh) {
   size_t thin = 0;
@@ -100,18 +109,23 @@ size_t thinTriangles(const TriangleMesh& mesh) {
   return thin;
 }
 
+// A triangle's unit normal, in doubles.
+std::array<double, 3> unitNormal(const TriangleMesh& mesh, const std::array<std::uint32_t, 3>& tri) {
+  const auto &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+  const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+  const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+  const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  return {n[0] / l, n[1] / l, n[2] / l};
+}
+
 // Edges whose two triangles face more than 120 degrees apart: the surface folded over itself.
 size_t foldEdges(const TriangleMesh& mesh) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, size_t> edge;
   std::vector<std::array<double, 3>> normal;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
-    const auto &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
-    const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-    const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-    const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    normal.push_back({n[0] / l, n[1] / l, n[2] / l});
+    normal.push_back(unitNormal(mesh, tri));
     for (int k = 0; k < 3; ++k) edge[{tri[k], tri[(k + 1) % 3]}] = t;
   }
   size_t folds = 0;
@@ -409,11 +423,7 @@ TEST(MeshExport, TheFineMeshsOwnFoldDoesNotStopTheDecimation) {
 // surface, and the mesh stays closed and manifold with the same triangles.
 TEST(MeshExport, AFoldsVertexIsMovedAlongTheSurface) {
   const Model model = modelOf(kPlate);
-  MeshOptions o;
-  o.threads = 2;
-  o.cell = 0.4;
-  o.maxError = 0.0;
-  auto mesh = meshModel(model, o);
+  auto mesh = coarseFinePlate(model);
   ASSERT_TRUE(mesh.ok()) << mesh.error();
   const size_t folds0 = foldEdges(*mesh), thin0 = thinTriangles(*mesh);
   // A front-face vertex near (17, -12) and a triangle of its fan, turned to start at it.
@@ -478,23 +488,10 @@ TEST(MeshExport, ABowlsRimHasNoFins) {
 // the edge back along the rim: the same triangles as before, no fold, closed and manifold.
 TEST(MeshExport, AFinUnderARidgeIsFlippedAlongIt) {
   const Model model = modelOf(kPlate);
-  MeshOptions o;
-  o.threads = 2;
-  o.cell = 0.4;
-  o.maxError = 0.0;
-  auto mesh = meshModel(model, o);
+  auto mesh = coarseFinePlate(model);
   ASSERT_TRUE(mesh.ok()) << mesh.error();
   const size_t folds0 = foldEdges(*mesh);
   auto& T = mesh->triangles;
-  const auto& V = mesh->vertices;
-  auto normal = [&](const std::array<std::uint32_t, 3>& t) {
-    const auto &a = V[t[0]], &b = V[t[1]], &c = V[t[2]];
-    const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-    const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-    const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    return std::array<double, 3>{n[0] / l, n[1] / l, n[2] / l};
-  };
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> owner;
   for (std::uint32_t t = 0; t < T.size(); ++t)
     for (int k = 0; k < 3; ++k) owner[{T[t][k], T[t][(k + 1) % 3]}] = t;
@@ -512,7 +509,7 @@ TEST(MeshExport, AFinUnderARidgeIsFlippedAlongIt) {
     const auto it = owner.find({d, c});
     if (it == owner.end()) continue;
     const std::uint32_t t2 = it->second;
-    const auto n1 = normal(T[t1]), n2 = normal(T[t2]);
+    const auto n1 = unitNormal(*mesh, T[t1]), n2 = unitNormal(*mesh, T[t2]);
     if (!(std::max(n1[2], n2[2]) > 0.9 && std::min(std::abs(n1[2]), std::abs(n2[2])) < 0.1)) continue;
     auto third = [&](const std::array<std::uint32_t, 3>& t) {
       for (std::uint32_t w : t)
