@@ -240,18 +240,27 @@ double distanceAt(const Model& model, const OpGrid& grid, double x, double y, do
   return len > 0.0 ? std::abs(g.v) / len : 0.0;
 }
 
+double farthestOfSeven(const Model& model, const OpGrid& grid, const std::array<float, 3>& a,
+                       const std::array<float, 3>& b, const std::array<float, 3>& c, double enough,
+                       std::vector<std::uint32_t>& scratch) {
+  constexpr double s = 1.0 / 6, t = 2.0 / 3;  // (t, s, s): halfway from a corner to the centre
+  constexpr double kPoints[7][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5},
+                                    {t, s, s},                   {s, t, s},     {s, s, t}};
+  double farthest = 0.0;
+  for (const auto& w : kPoints) {
+    double q[3];
+    for (int k = 0; k < 3; ++k) q[k] = w[0] * a[k] + w[1] * b[k] + w[2] * c[k];
+    farthest = std::max(farthest, distanceAt(model, grid, q[0], q[1], q[2], scratch));
+    if (farthest > enough) break;
+  }
+  return farthest;
+}
+
 SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxError) {
   return [&model, &grid, maxError](const std::array<float, 3>& a, const std::array<float, 3>& b,
                                     const std::array<float, 3>& c) {
     thread_local std::vector<std::uint32_t> scratch;
-    auto near = [&](double u, double v, double w) {
-      double q[3];
-      for (int k = 0; k < 3; ++k) q[k] = u * a[k] + v * b[k] + w * c[k];
-      return distanceAt(model, grid, q[0], q[1], q[2], scratch) <= maxError;
-    };
-    constexpr double s = 1.0 / 6, t = 2.0 / 3;  // (t, s, s): halfway from a corner to the centre
-    return near(1.0 / 3, 1.0 / 3, 1.0 / 3) && near(0.5, 0.5, 0) && near(0, 0.5, 0.5) && near(0.5, 0, 0.5) &&
-           near(t, s, s) && near(s, t, s) && near(s, s, t);
+    return farthestOfSeven(model, grid, a, b, c, maxError, scratch) <= maxError;
   };
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "export/mesh_internal.h"
@@ -35,28 +36,19 @@ struct EdgeIndex {
   }
 };
 
+// Under kThin: its normal is float noise.
+bool thinTriangle(const std::vector<std::array<float, 3>>& V, const std::array<std::uint32_t, 3>& t) {
+  return shape(V[t[0]].data(), V[t[1]].data(), V[t[2]].data()) < static_cast<float>(kThin);
+}
+
 }  // namespace
 
 size_t flipFoldEdges(TriangleMesh& mesh, const Model& model, const OpGrid& grid) {
   const auto& V = mesh.vertices;
   auto& T = mesh.triangles;
   std::vector<std::uint32_t> scratch;
-  // The largest first-order distance to the surface at a triangle's seven points (surfaceCheck()'s).
   auto offSurface = [&](const std::array<std::uint32_t, 3>& t) {
-    const auto &a = V[t[0]], &b = V[t[1]], &c = V[t[2]];
-    double worst = 0.0;
-    auto at = [&](double u, double v, double w) {
-      double q[3];
-      for (int k = 0; k < 3; ++k) q[k] = u * a[k] + v * b[k] + w * c[k];
-      worst = std::max(worst, distanceAt(model, grid, q[0], q[1], q[2], scratch));
-    };
-    constexpr double s = 1.0 / 6, h = 2.0 / 3;
-    at(1.0 / 3, 1.0 / 3, 1.0 / 3), at(0.5, 0.5, 0), at(0, 0.5, 0.5), at(0.5, 0, 0.5);
-    at(h, s, s), at(s, h, s), at(s, s, h);
-    return worst;
-  };
-  auto thin = [&](const std::array<std::uint32_t, 3>& t) {
-    return shape(V[t[0]].data(), V[t[1]].data(), V[t[2]].data()) < static_cast<float>(kThin);
+    return farthestOfSeven(model, grid, V[t[0]], V[t[1]], V[t[2]], std::numeric_limits<double>::infinity(), scratch);
   };
   size_t flipped = 0;
   for (int sweep = 0; sweep < 8; ++sweep) {
@@ -81,7 +73,7 @@ size_t flipFoldEdges(TriangleMesh& mesh, const Model& model, const OpGrid& grid)
       if (touched[u] || touched[v] || touched[c] || touched[d]) continue;
       if (index.holding(c, d) != UINT32_MAX || index.holding(d, c) != UINT32_MAX) continue;  // would not be manifold
       const std::array<std::uint32_t, 3> n1{c, u, d}, n2{d, v, c};
-      if (thin(n1) || thin(n2)) continue;
+      if (thinTriangle(V, n1) || thinTriangle(V, n2)) continue;
       // The quad's four outer edges with the triangles beyond them: (v, c) and (c, u) of t1,
       // (u, d) and (d, v) of t2.
       const std::uint32_t beyondVC = index.holding(c, v), beyondCU = index.holding(u, c);
@@ -108,21 +100,13 @@ size_t flipFoldEdges(TriangleMesh& mesh, const Model& model, const OpGrid& grid)
 size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid) {
   auto& V = mesh.vertices;
   const auto& T = mesh.triangles;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
-  edges.reserve(3 * T.size());
-  for (std::uint32_t t = 0; t < T.size(); ++t)
-    for (int k = 0; k < 3; ++k) edges.push_back({(std::uint64_t{T[t][k]} << 32) | T[t][(k + 1) % 3], t});
-  std::sort(edges.begin(), edges.end());
-  auto across = [&](std::uint32_t u, std::uint32_t v) {  // the triangle with edge v -> u
-    const std::uint64_t key = (std::uint64_t{v} << 32) | u;
-    auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(key, std::uint32_t{0}));
-    return it != edges.end() && it->first == key ? it->second : UINT32_MAX;
-  };
+  const EdgeIndex index(T);
+  auto across = [&](std::uint32_t u, std::uint32_t v) { return index.holding(v, u); };  // the triangle with edge v -> u
   auto folded = [&](std::uint32_t a, std::uint32_t b) {
     return a != UINT32_MAX && b != UINT32_MAX && foldsAcross(V, T[a], T[b]);
   };
   std::vector<std::uint32_t> at;  // the folds' vertices
-  for (const auto& [key, t] : edges) {
+  for (const auto& [key, t] : index.edges) {
     const std::uint32_t u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
     if (u < v && folded(t, across(u, v))) at.insert(at.end(), {T[t][0], T[t][1], T[t][2]});
   }
@@ -146,7 +130,7 @@ size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid
         seen.push_back(pair);
         folds += folded(t, o);
       }
-      thin = thin || shape(V[T[t][0]].data(), V[T[t][1]].data(), V[T[t][2]].data()) < static_cast<float>(kThin);
+      thin = thin || thinTriangle(V, T[t]);
     }
     return folds;
   };

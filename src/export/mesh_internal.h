@@ -75,9 +75,14 @@ VertexRemovals removeFoldsAndThinTriangles(std::vector<unsigned int>& ix, size_t
 double distanceAt(const Model& model, const OpGrid& grid, double x, double y, double z, std::vector<std::uint32_t>& scratch);
 using SurfaceCheck = std::function<bool(const std::array<float, 3>&, const std::array<float, 3>&,
                                         const std::array<float, 3>&)>;
-// Whether a triangle lies within maxError of the model's surface: its first-order distance
-// (|f| / |grad f|) at seven points, its centre, its edges' midpoints and the points halfway from
-// each corner to the centre. Holds references to the model and the grid.
+// The largest first-order distance (|f| / |grad f|) of a triangle's seven points from the model's
+// surface: its centre, its edges' midpoints and the points halfway from each corner to the centre,
+// read in that order; once one is beyond `enough` the rest are not read.
+double farthestOfSeven(const Model& model, const OpGrid& grid, const std::array<float, 3>& a,
+                       const std::array<float, 3>& b, const std::array<float, 3>& c, double enough,
+                       std::vector<std::uint32_t>& scratch);
+// Whether a triangle lies within maxError of the model's surface at its seven points
+// (farthestOfSeven()). Holds references to the model and the grid.
 SurfaceCheck surfaceCheck(const Model& model, const OpGrid& grid, double maxError);
 size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX, double planeY, ThreadPool& pool,
                 bool seams = true, const SurfaceCheck* onSurface = nullptr);
@@ -90,7 +95,7 @@ size_t decimate(TriangleMesh& mesh, double maxError, double tile, double planeX,
 size_t moveOutOfFolds(TriangleMesh& mesh, const Model& model, const OpGrid& grid);
 // Before the moves: each fold edge whose two triangles make a quad is flipped to the quad's other
 // diagonal where that leaves fewer folds on the quad's five edges, no thin triangle and no new
-// triangle further from the surface than the two before (at seven points each, as surfaceCheck()).
+// triangle further from the surface than the two before (farthestOfSeven()).
 // Marching tetrahedra cut across a sharp ridge (a bowl's rim: its wall and its inner face) with an
 // edge under it and two fins up to the ridge; the flip's diagonal runs along the ridge instead.
 // Sweeps until none is flipped (at most eight). Returns how many flips were kept.
