@@ -24,6 +24,14 @@ Ray Camera::rayAt(double sx, double sy) const {
   return {eye_, glm::normalize(forward_ + u * right_ + v * up_)};
 }
 
+CameraBasis Camera::basis() const {
+  CameraBasis b;
+  for (int k = 0; k < 3; ++k) b.eye[k] = eye_[k], b.forward[k] = forward_[k], b.right[k] = right_[k], b.up[k] = up_[k];
+  b.width = width_, b.height = height_, b.halfH = halfH_, b.aspect = aspect_;
+  b.ortho = spec_.type == CameraSpec::Type::Ortho;
+  return b;
+}
+
 std::optional<glm::dvec2> Camera::project(const glm::dvec3& p) const {
   const glm::dvec3 d = p - eye_;
   const double z = glm::dot(d, forward_);

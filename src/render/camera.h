@@ -5,6 +5,7 @@
 
 #include <glm/glm.hpp>
 
+#include "render/ray_lanes.h"
 #include "scene/scene.h"
 
 namespace emboss {
@@ -27,6 +28,8 @@ class Camera {
   // The size in mm of one pixel at distance `t` along a ray (for step sizes and dirty margins).
   double footprint(double t) const;
   const CameraSpec& spec() const { return spec_; }
+  // What rayAt() reads, for the rays taken in SIMD lanes (ray_lanes.h).
+  CameraBasis basis() const;
 
  private:
   CameraSpec spec_;

@@ -300,8 +300,13 @@ class Renderer {
   // `startRefinements` times), and its walk from the state `walk` holds. The hit is the same
   // whatever the start (the first grid point with f >= 0).
   struct Walk;
+  struct RayStart;
   bool beginWalk(double sx, double sy, RenderStats& st, std::vector<const SetOp*>& rayOps, Walk& walk,
                  int startRefinements) const;
+  // beginWalk() of a ray already clipped to the field's box (the rays of findFieldHits(), set up
+  // in lanes: ray_lanes.h). Does not count the ray.
+  bool beginWalkFrom(const RayStart& start, RenderStats& st, std::vector<const SetOp*>& rayOps, Walk& walk,
+                     int startRefinements) const;
   std::optional<Hit> endWalk(Walk& walk, RenderStats& st, std::vector<std::uint32_t>& scratch, bool normal) const;
   // The hit of the ray through (sx, sy), nothing where it misses. Image points outside `reach`
   // miss. `kept` (field tracer, optional): the pixel's kept hit, used when `reuse` and known, else

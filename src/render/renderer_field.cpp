@@ -244,24 +244,38 @@ bool Renderer::beginWalk(double sx, double sy, RenderStats& st, std::vector<cons
                          int startRefinements) const {
   // (The ray and h8 in locals here and in endWalk(), as traceField() had them whole: read through
   // `walk` they would be read again after every call.)
-  const Ray ray = camera_->rayAt(sx, sy);
-  walk.ray = ray;
+  RayStart s;
+  s.ray = camera_->rayAt(sx, sy);
   ++st.rays;
   double t0, t1;
-  if (!clipRay(ray, fieldClip_, t0, t1)) return false;
+  if (!clipRay(s.ray, fieldClip_, t0, t1)) {
+    walk.ray = s.ray;
+    return false;
+  }
   const double h = step_, h8 = h / kSubdivisions;
-  walk.h8 = h8;
   // Points of the ray are t = q h / kSubdivisions for integers q: the same points whatever the clip.
-  const long q0 = kSubdivisions * floorToLong(t0 / h);
-  const long q1 = kSubdivisions * ceilToLong(t1 / h);
+  s.q0 = kSubdivisions * floorToLong(t0 / h);
+  s.q1 = kSubdivisions * ceilToLong(t1 / h);
+  const glm::dvec3 pa = s.ray.origin + (static_cast<double>(s.q0) * h8) * s.ray.dir;
+  const glm::dvec3 pb = s.ray.origin + (static_cast<double>(s.q1) * h8) * s.ray.dir;
+  s.reach = Box2{std::min(pa.x, pb.x), std::min(pa.y, pb.y), std::max(pa.x, pb.x), std::max(pa.y, pb.y)};
+  return beginWalkFrom(s, st, rayOps, walk, startRefinements);
+}
+
+bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector<const SetOp*>& rayOps, Walk& walk,
+                             int startRefinements) const {
+  const Ray ray = start.ray;
+  walk.ray = ray;
+  const double h8 = step_ / kSubdivisions;
+  walk.h8 = h8;
+  const long q0 = start.q0, q1 = start.q1;
   walk.q0 = q0, walk.q1 = q1;
   auto at = [&](long q) { return ray.origin + (static_cast<double>(q) * h8) * ray.dir; };
 
   RayContext& rc = walk.rc;  // (its lists' arrays are read only up to their counts)
   rc.setOps = nullptr, rc.setOpCount = 0, rc.dense = false, rc.lipschitz = false, rc.lf = 0.0;
   rc.windows = 0, rc.skips = 0;
-  const glm::dvec3 pa = at(q0), pb = at(q1);
-  const Box2 reach{std::min(pa.x, pb.x), std::min(pa.y, pb.y), std::max(pa.x, pb.x), std::max(pa.y, pb.y)};
+  const Box2 reach = start.reach;
   rayOps.clear();
   for (const SetOp& s : setOps_)
     if (s.support.overlaps(reach)) rayOps.push_back(&s);
@@ -318,7 +332,7 @@ bool Renderer::beginWalk(double sx, double sy, RenderStats& st, std::vector<cons
       // lower (a ray over flat metal beside a raised motif), a few times over (each time a bound
       // from the field's pyramid: worth it for a ray that walks alone, not for one in lanes).
       for (int k = 0; k < startRefinements && topQ > q0 && topQ < q1; ++k) {
-        const long next = under(field_.bound(xyBox(at(topQ), pb)).hi);
+        const long next = under(field_.bound(xyBox(at(topQ), at(q1))).hi);
         if (next <= topQ) break;
         topQ = next;
       }

@@ -171,6 +171,14 @@ struct Renderer::RayContext {
   }
 };
 
+// A ray of the field tracer clipped to the field's box (beginWalk()): its grid points from q0 to
+// q1, and the (x, y) box of the points there.
+struct Renderer::RayStart {
+  Ray ray;
+  long q0 = 0, q1 = 0;
+  Box2 reach;
+};
+
 // A ray of the field tracer between its set-up (beginWalk()) and its end (endWalk()): the ray, its
 // context, and its walk's state at the top of the walk's loop, where the walk can be handed over
 // (to the walk in lanes, walk_lanes.h, and back).

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "frep/workpiece.h"
+#include "render/ray_lanes.h"
 #include "render/renderer_internal.h"
 #include "render/walk_lanes.h"
 #include "util/portable_math.h"
@@ -139,6 +140,27 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     lane.f[k] = lane.l[k] = 0.0;
     lane.state[k] = 1.0;
   };
+  // The rays that walk, set up in lanes: their index among them (kKept for a kept hit reused,
+  // kMisses for a ray outside the projection of every surface).
+  constexpr int kKept = -1, kMisses = -2;
+  thread_local std::vector<int> startOf;
+  thread_local std::vector<double> wx, wy;
+  thread_local RayStarts starts;
+  startOf.resize(static_cast<size_t>(count)), wx.clear(), wy.clear();
+  for (int i = 0; i < count; ++i) {
+    if (kept && reuse && !std::isnan(kept[i])) {
+      startOf[static_cast<size_t>(i)] = kKept;
+      continue;
+    }
+    if (missesSurely(xs[i], ys[i], true, reach)) {
+      startOf[static_cast<size_t>(i)] = kMisses;
+      continue;
+    }
+    startOf[static_cast<size_t>(i)] = static_cast<int>(wx.size());
+    wx.push_back(xs[i]), wy.push_back(ys[i]);
+  }
+  raysInLanes(camera_->basis(), fieldClip_, step_, step_ / kSubdivisions, wx.data(), wy.data(), static_cast<int>(wx.size()),
+              starts);
   int next = 0, walking = 0;
   for (;;) {
     // Free lanes take the next rays that walk (the others are found here alone).
@@ -148,12 +170,38 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
         const int i = next++;
         const double sx = xs[i], sy = ys[i];
         double* const k1 = kept ? kept + i : nullptr;
-        if ((k1 && reuse && !std::isnan(*k1)) || missesSurely(sx, sy, true, reach)) {
+        const int j = startOf[static_cast<size_t>(i)];
+        if (j == kKept) {
           out[i] = findHit(sx, sy, true, reach, st, scratch, k1, reuse, false);
           continue;
         }
+        if (j == kMisses) {  // (as findHit() answers it)
+          ++st.rays;
+          record(i, std::nullopt);
+          continue;
+        }
         Walk& walk = walks[k];
-        if (!beginWalk(sx, sy, st, ops[k], walk, 0)) {
+        bool begun = false;
+        switch (starts.state[static_cast<size_t>(j)]) {
+          case RayStarts::kAlone:
+            begun = beginWalk(sx, sy, st, ops[k], walk, 0);
+            break;
+          case RayStarts::kClipped: {
+            ++st.rays;
+            const size_t u = static_cast<size_t>(j);
+            RayStart rs;
+            rs.ray = Ray{{starts.ox[u], starts.oy[u], starts.oz[u]}, {starts.dx[u], starts.dy[u], starts.dz[u]}};
+            rs.q0 = kSubdivisions * static_cast<long>(starts.g0[u]);
+            rs.q1 = kSubdivisions * static_cast<long>(starts.g1[u]);
+            rs.reach = Box2{starts.rx0[u], starts.ry0[u], starts.rx1[u], starts.ry1[u]};
+            begun = beginWalkFrom(rs, st, ops[k], walk, 0);
+            break;
+          }
+          default:  // (the ray misses the field's box)
+            ++st.rays;
+            break;
+        }
+        if (!begun) {
           record(i, std::nullopt);
           continue;
         }
