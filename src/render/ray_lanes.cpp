@@ -8,6 +8,7 @@
 #include "hwy/highway.h"
 
 #include "render/ray_lanes.h"
+#include "render/std_minmax-inl.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -17,16 +18,6 @@ HWY_BEFORE_NAMESPACE();
 namespace emboss {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-// std::min and std::max of two doubles as <algorithm> defines them (b < a ? b : a, a < b ? b : a).
-template <class V>
-HWY_INLINE V MinOfRay(V a, V b) {
-  return hn::IfThenElse(hn::Lt(b, a), b, a);
-}
-template <class V>
-HWY_INLINE V MaxOfRay(V a, V b) {
-  return hn::IfThenElse(hn::Lt(a, b), b, a);
-}
 
 void RaysInLanes(const CameraBasis& cam, const Box3& clip, double h, double h8, const double* sx, const double* sy,
                  int n, RayStarts& out) {
@@ -79,8 +70,8 @@ void RaysInLanes(const CameraBasis& cam, const Box3& clip, double h, double h8, 
       const V r = hn::Div(one, dir);
       const V ta = hn::Mul(hn::Sub(hn::Set(d, lo), o), r), tb = hn::Mul(hn::Sub(hn::Set(d, hi), o), r);
       const auto swap = hn::Gt(ta, tb);
-      t0 = MaxOfRay(t0, hn::IfThenElse(swap, tb, ta));
-      t1 = MinOfRay(t1, hn::IfThenElse(swap, ta, tb));
+      t0 = MaxOf(t0, hn::IfThenElse(swap, tb, ta));
+      t1 = MinOf(t1, hn::IfThenElse(swap, ta, tb));
     };
     slab(ox, dx, clip.x0, clip.x1);
     slab(oy, dy, clip.y0, clip.y1);
@@ -95,7 +86,7 @@ void RaysInLanes(const CameraBasis& cam, const Box3& clip, double h, double h8, 
     const V pax = hn::Add(ox, hn::Mul(s0, dx)), pay = hn::Add(oy, hn::Mul(s0, dy));
     const V pbx = hn::Add(ox, hn::Mul(s1, dx)), pby = hn::Add(oy, hn::Mul(s1, dy));
     put(0, ox), put(1, oy), put(2, oz), put(3, dx), put(4, dy), put(5, dz), put(6, g0), put(7, g1);
-    put(8, MinOfRay(pax, pbx)), put(9, MinOfRay(pay, pby)), put(10, MaxOfRay(pax, pbx)), put(11, MaxOfRay(pay, pby));
+    put(8, MinOf(pax, pbx)), put(9, MinOf(pay, pby)), put(10, MaxOf(pax, pbx)), put(11, MaxOf(pay, pby));
     hn::Store(hn::IfThenElse(alone, two, hn::IfThenElseZero(clipped, one)), d, buf);
     for (size_t k = 0; k < count; ++k) out.state[i + k] = static_cast<std::uint8_t>(buf[k]);
   }

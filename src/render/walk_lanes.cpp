@@ -10,6 +10,7 @@
 #include "render/walk_lanes.h"
 #include "render/height_field.h"
 #include "render/hermite-inl.h"
+#include "render/std_minmax-inl.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -23,17 +24,6 @@ namespace hn = hwy::HWY_NAMESPACE;
 using WalkTag = hn::CappedTag<double, kMaxWalkLanes>;
 
 int WalkLaneCount() { return static_cast<int>(hn::Lanes(WalkTag())); }
-
-// std::min and std::max of two doubles as <algorithm> defines them (b < a ? b : a, a < b ? b : a):
-// the same value as the walk's, down to which of two equal zeros.
-template <class V>
-HWY_INLINE V MinOf(V a, V b) {
-  return hn::IfThenElse(hn::Lt(b, a), b, a);
-}
-template <class V>
-HWY_INLINE V MaxOf(V a, V b) {
-  return hn::IfThenElse(hn::Lt(a, b), b, a);
-}
 
 void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   const WalkTag d;
