@@ -1,6 +1,6 @@
 // raysInLanes for each SIMD target Highway knows (compiled once per target by foreach_target.h),
 // and the run-time choice among them. Each line mirrors Camera::rayAt() (camera.cpp), clipRay()
-// (renderer_internal.h) or Renderer::beginWalk() (renderer_field.cpp): the same operations in the
+// (renderer_internal.h) or Renderer::beginWalk() (renderer_walk.cpp): the same operations in the
 // same order, so the same bits.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/ray_lanes.cpp"
@@ -58,7 +58,7 @@ void RaysInLanes(const CameraBasis& cam, const Box3& clip, double h, double h8, 
     };
     const V wx = across(cam.ortho ? cam.eye : cam.forward, 0), wy = across(cam.ortho ? cam.eye : cam.forward, 1),
             wz = across(cam.ortho ? cam.eye : cam.forward, 2);
-    const V inv = hn::Div(one, hn::Sqrt(hn::Add(hn::Add(hn::Mul(wx, wx), hn::Mul(wy, wy)), hn::Mul(wz, wz))));
+    const V inv = cam.ortho ? one : hn::Div(one, hn::Sqrt(hn::Add(hn::Add(hn::Mul(wx, wx), hn::Mul(wy, wy)), hn::Mul(wz, wz))));
     const V ox = cam.ortho ? wx : hn::Set(d, cam.eye[0]), oy = cam.ortho ? wy : hn::Set(d, cam.eye[1]),
             oz = cam.ortho ? wz : hn::Set(d, cam.eye[2]);
     const V dx = cam.ortho ? hn::Set(d, cam.forward[0]) : hn::Mul(wx, inv),

@@ -1,5 +1,5 @@
-// The ray tracers: the field tracer (sheet model; renderer_field.cpp, its inputs renderer_sync.cpp)
-// and the exact tracer (offset model, --naive); frames and dirty regions.
+// The ray tracers: the field tracer (sheet model; renderer_field.cpp and renderer_walk.cpp, its
+// inputs renderer_sync.cpp) and the exact tracer (offset model, --naive); frames and dirty regions.
 #include "render/renderer_internal.h"
 #include "render/shade_lanes.h"
 

@@ -308,6 +308,9 @@ class Renderer {
   bool beginWalkFrom(const RayStart& start, RenderStats& st, std::vector<const SetOp*>& rayOps, Walk& walk,
                      int startRefinements) const;
   std::optional<Hit> endWalk(Walk& walk, RenderStats& st, std::vector<std::uint32_t>& scratch, bool normal) const;
+  // The walk's hit inside the bracket [bq - 1, bq], f there bfa < 0 <= bfb (counted).
+  Hit bracketHit(const Walk& walk, long bq, double bfa, double bfb, RenderStats& st, std::vector<std::uint32_t>& scratch,
+                 bool normal) const;
   // The hit of the ray through (sx, sy), nothing where it misses. Image points outside `reach`
   // miss. `kept` (field tracer, optional): the pixel's kept hit, used when `reuse` and known, else
   // written with what the trace found. Without `fieldNormal`, a field tracer's hit comes without

@@ -1,5 +1,6 @@
 // What the renderer's parts share (renderer.cpp: frames, the exact tracer and dirty regions;
-// renderer_sync.cpp: the model and camera taken in; renderer_field.cpp: the field tracer): the
+// renderer_sync.cpp: the model and camera taken in; renderer_field.cpp: the field tracer's values;
+// renderer_walk.cpp: its walk along a ray; renderer_lanes.cpp: the walks in SIMD lanes): the
 // tracers' constants, small geometry helpers, and the per-ray context. Not for use elsewhere.
 #pragma once
 

@@ -1,6 +1,6 @@
 // walkLanes for each SIMD target Highway knows (compiled once per target by foreach_target.h), and
 // the run-time choice among them. A step mirrors one turn of Renderer::endWalk()'s loop outside
-// the windows (renderer_field.cpp) line by line: the point, D, f, the stretch, its slope bound, the
+// the windows (renderer_walk.cpp) line by line: the point, D, f, the stretch, its slope bound, the
 // step.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/walk_lanes.cpp"
