@@ -3,7 +3,9 @@
 // perspective and orthographic cameras, from above, at a slant and low down, for image points
 // inside the image and beyond it, and for counts that fill no whole vector.
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
+#include <cstdint>
 #include <cstring>
 #include <random>
 #include <string>
@@ -68,7 +70,8 @@ void expectSameAsAlone(const Camera& camera, const Box3& clip, double h, const s
   }
 }
 
-TEST(RayLanes, TheSameBitsAsEachRaySetUpAlone) {
+// Every view's points against the scalar set-up (the instruction set Highway chose).
+void expectEveryViewSameAsAlone() {
   const Box3 clip{-100.5, -75.25, -3.0, 100.5, 75.25, 9.5};
   std::vector<CameraSpec> specs{
       perspective({0, -60, 160}, {0, 0, 0}),       // the default view
@@ -102,6 +105,24 @@ TEST(RayLanes, TheSameBitsAsEachRaySetUpAlone) {
       expectSameAsAlone(camera, clip, 0.125, sx, sy, c1, a1, "camera " + std::to_string(c) + ", n " + std::to_string(n));
     }
   }
+}
+
+TEST(RayLanes, TheSameBitsAsEachRaySetUpAlone) { expectEveryViewSameAsAlone(); }
+
+TEST(RayLanes, TheSameBitsOnEveryInstructionSetOfThisMachine) {
+  // Each instruction set this machine has and the build compiled for (AVX-512, AVX2, SSE4 and
+  // SSSE3 on an x86 of today; NEON and SVE on arm64), chosen in turn: a board without the
+  // widest one takes another's lanes.
+  int sets = 0;
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    if (target == HWY_SCALAR || target == HWY_EMU128) continue;  // (Highway's fallbacks, not SIMD)
+    hwy::SetSupportedTargetsForTest(target);
+    SCOPED_TRACE(hwy::TargetName(target));
+    expectEveryViewSameAsAlone();
+    ++sets;
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  EXPECT_GE(sets, 1);
 }
 
 TEST(RayLanes, ARayAlongAnAxisIsLeftToTheCaller) {
