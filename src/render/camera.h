@@ -5,7 +5,6 @@
 
 #include <glm/glm.hpp>
 
-#include "render/ray_lanes.h"
 #include "scene/scene.h"
 
 namespace emboss {
@@ -13,6 +12,15 @@ namespace emboss {
 struct Ray {
   glm::dvec3 origin;
   glm::dvec3 dir;  // unit length
+};
+
+// A camera as Camera::rayAt() reads it (Camera::basis()), for the rays set up in SIMD lanes
+// (ray_lanes.h).
+struct CameraBasis {
+  double eye[3] = {0, 0, 0}, forward[3] = {0, 0, -1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
+  double width = 1, height = 1;  // the image's, in pixels
+  double halfH = 1, aspect = 1;
+  bool ortho = false;
 };
 
 class Camera {

@@ -10,16 +10,9 @@
 #include <vector>
 
 #include "frep/box.h"
+#include "render/camera.h"
 
 namespace emboss {
-
-// A camera as Camera::rayAt() reads it (Camera::basis()).
-struct CameraBasis {
-  double eye[3] = {0, 0, 0}, forward[3] = {0, 0, -1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
-  double width = 1, height = 1;  // the image's, in pixels
-  double halfH = 1, aspect = 1;
-  bool ortho = false;
-};
 
 // The rays' starts, a value per ray (resized by raysInLanes()).
 struct RayStarts {
