@@ -366,10 +366,27 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     }
     return edge;
   };
-  auto put = [&](int x, int y, const glm::dvec3& c) {
-    std::uint8_t* px = image.pixel(x, y);
-    const auto rgb = toSrgb8Fast(c);
-    px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2], px[3] = 255;
+  // A row's shaded pixels are written together: their colours' bytes found in lanes
+  // (toSrgb8Channels()) when the row is done.
+  struct RowColours {
+    std::vector<int> xs;
+    std::vector<double> linear;  // r, g, b a pixel
+    std::vector<std::uint8_t> bytes;
+  };
+  thread_local RowColours row;
+  auto put = [&](int x, int, const glm::dvec3& c) {
+    row.xs.push_back(x);
+    row.linear.insert(row.linear.end(), {c.r, c.g, c.b});
+  };
+  auto writeRow = [&](int y) {
+    const size_t n = row.xs.size();
+    row.bytes.resize(3 * n);
+    toSrgb8Channels(row.linear.data(), static_cast<int>(3 * n), row.bytes.data());
+    for (size_t k = 0; k < n; ++k) {
+      std::uint8_t* px = image.pixel(row.xs[k], y);
+      px[0] = row.bytes[3 * k], px[1] = row.bytes[3 * k + 1], px[2] = row.bytes[3 * k + 2], px[3] = 255;
+    }
+    row.xs.clear(), row.linear.clear();
   };
   // The second pass: a pixel from its centre sample, or on an edge from that and two more rays
   // inside it (their hits shaded together, in lanes, after the row's others are written).
@@ -392,6 +409,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       });
     };
     edges.clear();
+    row.xs.clear(), row.linear.clear();
     batch.n = 0;
     for (int x = x0; x < x1; ++x) {
       const size_t i = at(x, y);
@@ -452,6 +470,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       sum += p.samples[1];
       put(p.x, y, sum / 3.0);
     }
+    writeRow(y);
   });
 }
 
