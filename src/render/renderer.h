@@ -53,6 +53,10 @@ struct RenderOptions {
   // Outline sheets: their program specialised per leaf of the column map (false: the whole
   // program everywhere; the same picture, slower; for comparison).
   bool specialisedOutline = true;
+  // Outline sheets without set operations: a cell of a ray near the outline (in the slab, its
+  // interval test failed) is scanned point by point for its first point with f >= 0 (false:
+  // bisected, each half's interval tested first; the same picture, slower; for comparison).
+  bool scanOutlineCells = true;
   // Pixels outside the projection of the box that holds every surface are misses without a ray
   // (false: every pixel traced; the same picture, slower; for tests).
   bool cullOutsideClip = true;

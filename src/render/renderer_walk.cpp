@@ -203,6 +203,8 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   };
   const Val unknown{-1.0, -1.0};
   // The first q in (qa, qb] with f(q) >= 0, given f(qa) < 0: sets the bracket [q - 1, q].
+  constexpr long kCell = kSubdivisions;
+  const bool linearCells = workpieceKind_ == 4 && rc.setOpCount == 0 && options_.scanOutlineCells;
   long bq = 0;
   double bfa = 0, bfb = 0;
   auto search = [&](auto& self, long qa, const Val& a, long qb, const Val& b, bool checked) -> bool {
@@ -216,6 +218,22 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
       bq = qb, bfa = a.f, bfb = b.f;
       return true;
     }
+    // An outline sheet's cell near the outline (its interval test failed) is scanned point by
+    // point, not bisected: the smaller boxes straddle the outline's wall as the cell did, and a
+    // point through its block's tape costs less than an interval. The same first point with
+    // f >= 0, so the same hit (performance.md, "Stop 52").
+    if (linearCells && qb - qa <= kCell) {
+      Val prev = a;
+      for (long q = qa + 1; q <= qb; ++q) {
+        const Val v = q == qb ? b : value(q);
+        if (v.f >= 0.0) {
+          bq = q, bfa = prev.f, bfb = v.f;
+          return true;
+        }
+        prev = v;
+      }
+      return false;
+    }
     const long qm = qa + (qb - qa) / 2;
     const Val m = value(qm);
     if (self(self, qa, a, qm, m, false)) return true;
@@ -224,7 +242,6 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
 
   std::optional<double> tHit;
   bool bracketed = false;
-  constexpr long kCell = kSubdivisions;
   constexpr long kSpan = 8 * kSubdivisions;  // interval spans of 8 cells
   long q = walk.q;
   bool known = walk.known;  // fa = f(q)

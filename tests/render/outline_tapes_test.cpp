@@ -14,21 +14,23 @@
 namespace emboss {
 namespace {
 
-Image renderWith(const GeneratedPiece& piece, const Model& model, bool specialised, size_t* memory) {
+Image renderWith(const GeneratedPiece& piece, const Model& model, bool specialised, size_t* memory, bool scanCells = true,
+                 int width = 160, int height = 120, RenderStats* stats = nullptr) {
   ThreadPool pool(2);
   Renderer r(pool);
-  r.setCamera(Camera(piece.camera, 160, 120));
+  r.setCamera(Camera(piece.camera, width, height));
   ShadingParams s;
   s.metal = *metalByName("copper");
   s.frontZ = model.workpiece().bounds().z1;
   r.setShading(s);
   RenderOptions o;
   o.specialisedOutline = specialised;
+  o.scanOutlineCells = scanCells;
   r.setOptions(o);
   r.sync(model);
   if (memory) *memory = r.memoryBytes();
   Image image;
-  r.renderFull(image);
+  r.renderFull(image, stats);
   return image;
 }
 
@@ -82,6 +84,26 @@ TEST(OutlineTapes, ThePictureIsTheWholeProgramsByteForByte) {
 // their own: min(O, d) at every point lies within its sub-cell's (W at z' = 0), which are never
 // wider than the block's, and many sub-cells decide W (outside, or the slab) where their block
 // does not, so the walk needs the outline's program only in the sub-cells the outline crosses.
+TEST(OutlineTapes, CellsNearTheOutlineScannedPointByPointGiveTheBisectionsPicture) {
+  // A cell whose interval test failed near the outline's wall: its points one by one or its halves
+  // bisected, the first point with f >= 0 and the secant to it are the same.
+  auto outline = generateOutlinePiece(900, 9, 30.0, 0.5, 40, 9, true);
+  ASSERT_TRUE(outline.ok()) << outline.error();
+  const GeneratedPiece& piece = *outline;
+  Model model(piece.workpiece, piece.deformation);
+  for (const Operation& o : piece.operations) ASSERT_TRUE(model.add(o).ok());
+  RenderStats scanned, bisected;
+  const Image a = renderWith(piece, model, true, nullptr, true, 480, 360, &scanned);
+  const Image b = renderWith(piece, model, true, nullptr, false, 480, 360, &bisected);
+  long differing = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) differing += std::memcmp(a.pixel(x, y), b.pixel(x, y), 4) != 0;
+  EXPECT_EQ(differing, 0);
+  // The two searches took other ways there (else the scan was never tried).
+  EXPECT_NE(scanned.evaluations, bisected.evaluations);
+  EXPECT_EQ(scanned.hits, bisected.hits);
+}
+
 TEST(OutlineTapes, SubCellsBoundTheOutlineAndDecideWhereTheirBlockDoesNot) {
   const SyncedOutline m;
   PieceRandom rng(23);
