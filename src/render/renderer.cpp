@@ -228,7 +228,8 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   const std::optional<std::chrono::steady_clock::time_point> deadline = deadline_;
   // One pass: `rowOf(y, x0, x1, ...)` over each tile's stretch of each row of `area` on the pool,
   // its wall time per tile summed into the stats' `seconds`. A superseded frame stops within a row.
-  auto pass = [&](const PixelSpans& area, double RenderStats::*seconds, const auto& rowOf) {
+  // `tileDone(st, scratch, aborted)` after each tile's rows (or when it stops early).
+  auto pass = [&](const PixelSpans& area, double RenderStats::*seconds, const auto& rowOf, const auto& tileDone) {
     using Clock = std::chrono::steady_clock;
     return pool_.parallelFor2D(area.box, tileSize, [&](const Rect& tile) {
       thread_local std::vector<std::uint32_t> scratch;
@@ -237,12 +238,14 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       for (int y = tile.y; y < tile.y + tile.h; ++y) {
         if ((cancel && cancel->load(std::memory_order_relaxed)) || (deadline && Clock::now() > *deadline)) {
           aborted = true;
+          tileDone(st, scratch, true);
           return;
         }
         const PixelSpans::Span row = area.row(y);
         const int x0 = std::max(tile.x, row.x0), x1 = std::min(tile.x + tile.w, row.x1);
         if (x0 < x1) rowOf(y, x0, x1, st, scratch);
       }
+      tileDone(st, scratch, false);
       st.*seconds = std::chrono::duration<double>(Clock::now() - start).count();
       std::lock_guard lock(statsMutex);
       if (stats) *stats += st;
@@ -343,7 +346,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       if (batch.full()) flush();
     }
     if (batch.n > 0) flush();
-  });
+  }, [](RenderStats&, std::vector<std::uint32_t>&, bool) {});
   if (!traced) return false;
   // Whether pixel i = (x, y) is an edge: it differs from a neighbour in hitting, or its normal
   // from a neighbour's by more than the crease angle.
@@ -390,28 +393,64 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     row.xs.clear(), row.linear.clear();
   };
   // The second pass: a pixel from its centre sample, or on an edge from that and two more rays
-  // inside it (their hits shaded together, in lanes, after the row's others are written).
-  return pass(spans, &RenderStats::shadeSeconds, [&](int y, int x0, int x1, RenderStats& st, std::vector<std::uint32_t>& scratch) {
-    struct EdgePixel {
-      int x;
-      glm::dvec3 c, samples[2];
-    };
-    thread_local std::vector<EdgePixel> edges;
-    thread_local ShadeBatch batch;
-    thread_local std::array<int, ShadeBatch::kCapacity> slots;  // 2 e + k: edge e's sample k
-    // The field tracer's edge samples: their image points, found together (findFieldHits()).
-    thread_local std::vector<double> xs, ys;
-    thread_local std::vector<std::optional<Hit>> found;
-    xs.clear(), ys.clear();
-    const auto flush = [&] {
-      finish(batch, st, scratch, [](int, const glm::dvec3&) {}, [&](int j, const glm::dvec3& c) {
-        const int slot = slots[static_cast<size_t>(j)];
-        edges[static_cast<size_t>(slot / 2)].samples[slot % 2] = c;
-      });
-    };
+  // inside it (their hits shaded together, in lanes: the field tracer's a tile's edges at once,
+  // after the tile's other pixels are written; so a few edges a row still fill the lanes).
+  struct EdgePixel {
+    int x, y;
+    glm::dvec3 c, samples[2];
+  };
+  thread_local std::vector<EdgePixel> edges;
+  thread_local ShadeBatch batch;
+  thread_local std::array<int, ShadeBatch::kCapacity> slots;  // 2 e + k: edge e's sample k
+  // The field tracer's edge samples: their image points, found together (findFieldHits()).
+  thread_local std::vector<double> xs, ys;
+  thread_local std::vector<std::optional<Hit>> found;
+  const auto flush = [&](RenderStats& st, std::vector<std::uint32_t>& scratch) {
+    finish(batch, st, scratch, [](int, const glm::dvec3&) {}, [&](int j, const glm::dvec3& c) {
+      const int slot = slots[static_cast<size_t>(j)];
+      edges[static_cast<size_t>(slot / 2)].samples[slot % 2] = c;
+    });
+  };
+  // The edges' pixels from their three samples each, a row's (x, y) in turn.
+  auto writeEdges = [&] {
+    int y = -1;
+    for (const EdgePixel& p : edges) {
+      if (p.y != y && y >= 0) writeRow(y);
+      y = p.y;
+      glm::dvec3 sum = p.c;
+      sum += p.samples[0];
+      sum += p.samples[1];
+      put(p.x, y, sum / 3.0);
+    }
+    if (y >= 0) writeRow(y);
     edges.clear();
+  };
+  // The tile's edge samples traced and shaded, and its edges written.
+  const auto edgesDone = [&](RenderStats& st, std::vector<std::uint32_t>& scratch, bool stopped) {
+    if (stopped || !inLanes) {
+      edges.clear(), xs.clear(), ys.clear(), batch.n = 0;
+      return;
+    }
+    if (!xs.empty()) {
+      found.resize(xs.size());
+      findFieldHits(xs.data(), ys.data(), static_cast<int>(xs.size()), reach, st, scratch, nullptr, false, found.data());
+      for (size_t j = 0; j < found.size(); ++j) {
+        const std::optional<Hit>& sh = found[j];
+        if (!sh) {  // as sample() gives it
+          edges[j / 2].samples[j % 2] = backdrop(static_cast<int>(std::floor(xs[j])), static_cast<int>(std::floor(ys[j])), w, h);
+          continue;
+        }
+        slots[static_cast<size_t>(add(batch, *sh))] = static_cast<int>(j);
+        if (batch.full()) flush(st, scratch);
+      }
+    }
+    if (batch.n > 0) flush(st, scratch);
+    xs.clear(), ys.clear();
+    writeEdges();
+  };
+  return pass(spans, &RenderStats::shadeSeconds, [&](int y, int x0, int x1, RenderStats& st, std::vector<std::uint32_t>& scratch) {
     row.xs.clear(), row.linear.clear();
-    batch.n = 0;
+    if (!inLanes) edges.clear(), batch.n = 0;
     for (int x = x0; x < x1; ++x) {
       const size_t i = at(x, y);
       const bool hit = hits[i] != 0;
@@ -435,7 +474,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
         continue;
       }
       const int e = static_cast<int>(edges.size());
-      edges.push_back(EdgePixel{x, c, {}});
+      edges.push_back(EdgePixel{x, y, c, {}});
       for (int k = 0; k < 2; ++k) {
         const double sx = x + 0.5 + kEdgeSamples[k][0], sy = y + 0.5 + kEdgeSamples[k][1];
         if (inLanes) {
@@ -448,31 +487,15 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
           continue;
         }
         slots[static_cast<size_t>(add(batch, *sh))] = 2 * e + k;
-        if (batch.full()) flush();
+        if (batch.full()) flush(st, scratch);
       }
-    }
-    if (inLanes && !xs.empty()) {
-      found.resize(xs.size());
-      findFieldHits(xs.data(), ys.data(), static_cast<int>(xs.size()), reach, st, scratch, nullptr, false, found.data());
-      for (size_t j = 0; j < found.size(); ++j) {
-        const std::optional<Hit>& sh = found[j];
-        if (!sh) {  // as sample() gives it
-          edges[j / 2].samples[j % 2] = backdrop(static_cast<int>(std::floor(xs[j])), static_cast<int>(std::floor(ys[j])), w, h);
-          continue;
-        }
-        slots[static_cast<size_t>(add(batch, *sh))] = static_cast<int>(j);
-        if (batch.full()) flush();
-      }
-    }
-    if (batch.n > 0) flush();
-    for (const EdgePixel& p : edges) {
-      glm::dvec3 sum = p.c;
-      sum += p.samples[0];
-      sum += p.samples[1];
-      put(p.x, y, sum / 3.0);
     }
     writeRow(y);
-  });
+    if (!inLanes) {
+      if (batch.n > 0) flush(st, scratch);
+      writeEdges();
+    }
+  }, edgesDone);
 }
 
 bool Renderer::renderFull(Image& image, RenderStats* stats, const std::atomic_bool* cancel) {
