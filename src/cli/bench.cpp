@@ -290,7 +290,9 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
          fmt("%.0f", r.naiveFullEstimateMs) + " | " + fmt("%.0f", ratio) + "x | " + fmt("%.0f", r.rendererMb) + " | " +
          (r.dirtyDiffer == 0 ? std::string("yes") : r.dirtyDiffer < 0 ? std::string("-") : "NO: " + std::to_string(r.dirtyDiffer) + " bytes") + " |\n";
   }
-  t += "\nbuild: the first sync (index and displacement field). full frame: wall time of renderFull(). CPU: process CPU time "
+  t += "\nplate of the vm's size: the vm row's relief and strokes on a plain plate of the medallion's size and thickness, "
+       "seen by the same camera (no program: the vm row less this one is what the outline costs).\n";
+  t += "build: the first sync (index and displacement field). full frame: wall time of renderFull(). CPU: process CPU time "
        "per frame; trace + shade: thread time summed over tiles. punch / segment update: add + sync + dirty spans (dirtySpans()) "
        "traced, wall time (mean pixels traced, and of their centre rays those shaded at the hit kept from the last trace "
        "instead of traced: ";
@@ -374,6 +376,16 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
       return 1;
     }
     rows.push_back(measure("vm " + std::to_string(clauses) + " clauses", *piece, s, pool, quick ? 8 : 16, baseline));
+    // The same relief on a plain plate of the medallion's size, seen the same way, with the same
+    // strokes: what they cost at that view without the program (the row above less this one is
+    // the outline's share; docs/performance.md, "Stop 52").
+    const Box3 b = piece->workpiece->bounds();
+    PieceOptions o;
+    o.width = b.x1 - b.x0, o.height = b.y1 - b.y0, o.halfThickness = piece->workpiece->halfThickness();
+    GeneratedPiece plate = generatePiece(quick ? 50 : 300, 2002, o);
+    std::erase_if(plate.operations, [](const Operation& op) { return !op.isOffset(); });
+    std::fprintf(stderr, "emboss bench: the vm medallion's relief on a plain plate of its size...\n");
+    rows.push_back(measure("plate of the vm's size", plate, s, pool, quick ? 8 : 16, baseline));
   }
   std::string text = table(rows, s, cores, baseline, stealSentence(hostBefore, readHostCpuTimes()));
   if (!kioskRecording.empty()) {
