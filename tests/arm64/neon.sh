@@ -14,7 +14,7 @@ build="$1/arm64"; top="$2"
 # SIMD (LeafBounds, PathRows, ShadeLanes, FieldLanes), the field and its updates, the shading, dirty
 # updates against full frames. A test takes 20 to 50 times as long under qemu as natively: the whole
 # suite is left to platform/debian/cross-arm64.sh.
-filter="${3:-LeafBounds.*:WalkLanes.*:RayLanes.*:Srgb8.*:PathRows.*:ShadeLanes.*:FieldLanes.*:Shading.*:FieldSync.*:HeightField.IncrementalUpdatesEqualAFullBuildBitForBit:HeightField.ErrorAgainstTheExactSumIsSmall:DirtyRegion.SheetPlateEqualsFullRender:DirtyRegion.SheetVmOutlineEqualsFullRender:DirtyRegion.ATangleOfBlendBeadsEndsAsAFullRender}"
+filter="${3:-LeafBounds.*:WalkLanes.*:RayLanes.*:Srgb8.ChannelsInLanes*:PathRows.*:ShadeLanes.*:FieldLanes.*:Shading.*:FieldSync.*:HeightField.IncrementalUpdatesEqualAFullBuildBitForBit:HeightField.ErrorAgainstTheExactSumIsSmall:DirtyRegion.SheetPlateEqualsFullRender:DirtyRegion.SheetVmOutlineEqualsFullRender:DirtyRegion.ATangleOfBlendBeadsEndsAsAFullRender}"
 say() { echo "arm64: $*" >&2; }
 command -v aarch64-linux-gnu-g++ >/dev/null || { say "no aarch64-linux-gnu-g++ (bash platform/debian/cross-arm64.sh --set-up) -- skipped"; exit 77; }
 qemu="$(command -v qemu-aarch64-static || command -v qemu-aarch64)" || { say "no qemu-user (bash platform/debian/cross-arm64.sh --set-up) -- skipped"; exit 77; }
