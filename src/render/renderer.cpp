@@ -378,7 +378,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     std::vector<std::uint8_t> bytes;
   };
   thread_local RowColours row;
-  auto put = [&](int x, int, const glm::dvec3& c) {
+  auto put = [&](int x, const glm::dvec3& c) {  // (the row is writeRow()'s)
     row.xs.push_back(x);
     row.linear.insert(row.linear.end(), {c.r, c.g, c.b});
   };
@@ -420,7 +420,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       glm::dvec3 sum = p.c;
       sum += p.samples[0];
       sum += p.samples[1];
-      put(p.x, y, sum / 3.0);
+      put(p.x, sum / 3.0);
     }
     if (y >= 0) writeRow(y);
     edges.clear();
@@ -463,14 +463,14 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       }
       const glm::dvec3 c = hit ? glm::dvec3(centre[i]) : glm::dvec3(glm::vec3(backdrop(x, y, w, h)));
       if (!edge) {
-        put(x, y, c);
+        put(x, c);
         continue;
       }
       ++st.edgePixels;
       if (!lanes) {
         glm::dvec3 sum = c;
         for (const auto& o : kEdgeSamples) sum += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, reach, st, scratch);
-        put(x, y, sum / 3.0);
+        put(x, sum / 3.0);
         continue;
       }
       const int e = static_cast<int>(edges.size());

@@ -202,9 +202,9 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
     return fieldExcluded(rc, at(qa), at(qb), st, scratch);
   };
   const Val unknown{-1.0, -1.0};
-  // The first q in (qa, qb] with f(q) >= 0, given f(qa) < 0: sets the bracket [q - 1, q].
   constexpr long kCell = kSubdivisions;
   const bool linearCells = workpieceKind_ == 4 && rc.setOpCount == 0 && options_.scanOutlineCells;
+  // The first q in (qa, qb] with f(q) >= 0, given f(qa) < 0: sets the bracket [q - 1, q].
   long bq = 0;
   double bfa = 0, bfb = 0;
   auto search = [&](auto& self, long qa, const Val& a, long qb, const Val& b, bool checked) -> bool {

@@ -48,11 +48,8 @@ void Srgb8Lanes(const double* x, int n, std::uint8_t* out) {
     const auto nearStep = hn::Or(within(hn::Sub(above, bits)), within(hn::Sub(bits, below)));
     const auto alone = hn::Or(hn::Not(inside), nearStep);
     hn::Store(count, di, bytes);
-    if (hn::AllFalse(di, alone)) {
-      for (size_t k = 0; k < lanes; ++k) out[i + k] = static_cast<std::uint8_t>(bytes[k]);
-      continue;
-    }
     for (size_t k = 0; k < lanes; ++k) out[i + k] = static_cast<std::uint8_t>(bytes[k]);
+    if (hn::AllFalse(di, alone)) continue;
     HWY_ALIGN std::int64_t mask[8];
     hn::Store(hn::VecFromMask(di, alone), di, mask);
     for (size_t k = 0; k < lanes; ++k)
