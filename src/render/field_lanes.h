@@ -29,4 +29,11 @@ struct SampleLattice {
 int hermiteLanes(const SampleLattice& lattice, const double* x, const double* y, int n, double* v, double* gx,
                  double* gy);
 
+// A row of the field's cavity depths (HeightField::updateCavity): for every k < n, in float,
+// out[k] = ((0 + w[0] rows[0][k]) + w[1] rows[1][k] + ... + w[taps - 1] rows[taps - 1][k]) - own[k],
+// the taps summed in their order; whole vectors of lanes first, the rest one at a time with the
+// same operations (no fused multiply-add: -ffp-contract=off), so the same bits wherever a sample
+// falls.
+void tapSumsLanes(const float* const* rows, const float* w, int taps, const float* own, int n, float* out);
+
 }  // namespace emboss

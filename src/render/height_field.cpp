@@ -287,31 +287,41 @@ void HeightField::finishFlat() {
 
 void HeightField::updateCavity(const SampleRect& r) {
   // Away from the lattice's edges a sample's depth is its taps' weighted sum less its own D, in
-  // float, in the taps' order; near them the ring is read through valueBilinear() (clamped to the
-  // domain). Either way a function of the sample's position and the D around it alone, so an
-  // update over part of the lattice gives the bits a full one does.
+  // float, in the taps' order (in lanes: tapSumsLanes()); near them the ring is read through
+  // valueBilinear() (clamped to the domain). Either way a function of the sample's position and
+  // the D around it alone, so an update over part of the lattice gives the bits a full one does.
   int tiLo = 0, tiHi = 0, tjLo = 0, tjHi = 0;
   for (const Tap& t : taps_) tiLo = std::min(tiLo, t.di), tiHi = std::max(tiHi, t.di), tjLo = std::min(tjLo, t.dj), tjHi = std::max(tjHi, t.dj);
-  thread_local std::vector<float> acc;
   auto edge = [&](int i, int j) {
     const double ring = cavityRingMean(sampleX(i), sampleY(j), [&](double x, double y) { return valueBilinear(x, y); });
     cavity_[static_cast<size_t>(j) * nx_ + i] = static_cast<float>(ring - at(i, j).d);
   };
+  // D of the samples the rect's taps read, row by row without the other three floats of a sample:
+  // each tap's row is then read in lanes.
+  thread_local std::vector<float> plane, weights;
+  thread_local std::vector<const float*> rows;
+  const int pi0 = std::max(0, r.i0 + tiLo), pi1 = std::min(nx_ - 1, r.i1 + tiHi);
+  const int pj0 = std::max(0, r.j0 + tjLo), pj1 = std::min(ny_ - 1, r.j1 + tjHi);
+  const int pw = pi1 - pi0 + 1;
+  if (pw <= 0 || pj1 < pj0) return;
+  plane.resize(static_cast<size_t>(pw) * static_cast<size_t>(pj1 - pj0 + 1));
+  for (int j = pj0; j <= pj1; ++j) {
+    const Sample* src = &at(pi0, j);
+    float* dst = &plane[static_cast<size_t>(j - pj0) * pw];
+    for (int k = 0; k < pw; ++k) dst[k] = src[k].d;
+  }
+  auto inPlane = [&](int i, int j) { return &plane[static_cast<size_t>(j - pj0) * pw + static_cast<size_t>(i - pi0)]; };
+  weights.clear();
+  for (const Tap& t : taps_) weights.push_back(t.w);
+  rows.resize(taps_.size());
   for (int j = r.j0; j <= r.j1; ++j) {
     const bool rowInside = j + tjLo >= 0 && j + tjHi <= ny_ - 1;
     const int a = rowInside ? std::max(r.i0, -tiLo) : r.i1 + 1, b = rowInside ? std::min(r.i1, nx_ - 1 - tiHi) : r.i1;
     for (int i = r.i0; i < std::min(a, r.i1 + 1); ++i) edge(i, j);
     if (a <= b) {
-      const int n = b - a + 1;
-      acc.assign(static_cast<size_t>(n), 0.0f);
-      for (const Tap& t : taps_) {
-        const Sample* src = &at(a + t.di, j + t.dj);
-        const float w = t.w;
-        for (int k = 0; k < n; ++k) acc[static_cast<size_t>(k)] += w * src[k].d;
-      }
-      const Sample* own = &at(a, j);
-      float* out = &cavity_[static_cast<size_t>(j) * nx_ + a];
-      for (int k = 0; k < n; ++k) out[k] = acc[static_cast<size_t>(k)] - own[k].d;
+      for (size_t t = 0; t < taps_.size(); ++t) rows[t] = inPlane(a + taps_[t].di, j + taps_[t].dj);
+      tapSumsLanes(rows.data(), weights.data(), static_cast<int>(taps_.size()), inPlane(a, j), b - a + 1,
+                   &cavity_[static_cast<size_t>(j) * nx_ + a]);
     }
     for (int i = std::max(b + 1, a); i <= r.i1; ++i) edge(i, j);
   }

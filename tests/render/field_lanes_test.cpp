@@ -1,9 +1,10 @@
 // The height field's reads at many points at once in SIMD lanes (the cavity depth; D and its
 // slopes) give each point's one-point read, bit for bit, on every SIMD target this machine has
-// and the build compiled.
+// and the build compiled; so do the cavity filter's rows.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <random>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 
 #include "bench/piece_generator.h"
 #include "hwy/targets.h"
+#include "render/field_lanes.h"
 #include "render/renderer.h"
 
 namespace emboss {
@@ -104,6 +106,43 @@ TEST(FieldLanes, ValuesAndGradientsAreTheOnePointReadsOnEveryTarget) {
   });
   EXPECT_GE(targets, 1);
   EXPECT_GT(sloped, 1000);  // the piece has relief: the slopes are not all zero
+}
+
+// The cavity filter's rows in lanes (HeightField::updateCavity) are the scalar loop's sums, bit
+// for bit, on every target: random D and weights (the field's own 24 taps are positive and small;
+// these include negatives and zeros), every length from 0 to 40, rows starting anywhere.
+TEST(FieldLanes, TapSumsAreTheScalarSumsOnEveryTarget) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> ud(-3.0f, 3.0f), uw(-0.1f, 0.3f);
+  constexpr int kTaps = 24, kWidth = 64;
+  std::vector<float> plane(kTaps * kWidth + kWidth), w(kTaps);
+  for (float& v : plane) v = ud(rng);
+  for (float& v : w) v = uw(rng);
+  w[3] = 0.0f, plane[5] = -0.0f;
+  int targets = 0;
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    if (target == HWY_SCALAR || target == HWY_EMU128) continue;
+    hwy::SetSupportedTargetsForTest(target);
+    ++targets;
+    for (int len = 0; len <= 40; ++len)
+      for (int shift = 0; shift < 9; ++shift) {
+        std::vector<const float*> rows(kTaps);
+        for (int t = 0; t < kTaps; ++t) rows[static_cast<size_t>(t)] = &plane[static_cast<size_t>(t * kWidth + (shift + 3 * t) % 17)];
+        const float* own = &plane[static_cast<size_t>(kTaps * kWidth + shift)];
+        std::vector<float> out(static_cast<size_t>(len) + 1, 7.0f);
+        tapSumsLanes(rows.data(), w.data(), kTaps, own, len, out.data());
+        for (int k = 0; k < len; ++k) {
+          float acc = 0.0f;
+          for (int t = 0; t < kTaps; ++t) acc += w[static_cast<size_t>(t)] * rows[static_cast<size_t>(t)][k];
+          const float want = acc - own[k];
+          ASSERT_EQ(0, std::memcmp(&want, &out[static_cast<size_t>(k)], sizeof(float)))
+              << hwy::TargetName(target) << ": length " << len << ", sample " << k << ": " << out[static_cast<size_t>(k)] << " vs " << want;
+        }
+        ASSERT_EQ(7.0f, out[static_cast<size_t>(len)]) << hwy::TargetName(target) << ": wrote past length " << len;
+      }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  EXPECT_GE(targets, 1);
 }
 
 }  // namespace
