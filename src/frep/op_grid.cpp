@@ -9,7 +9,7 @@ namespace emboss {
 void OpGrid::build(const Model& model) {
   const Box3 b = model.workpiece().bounds();
   const double sx = b.x1 - b.x0, sy = b.y1 - b.y0;
-  cell_ = requestedCell_ > 0 ? requestedCell_ : std::max(sx, sy) / 256.0;
+  cell_ = requestedCell_ > 0 ? requestedCell_ : std::max(std::max(sx, sy) / 256.0, minCell_);
   if (!(cell_ > 0)) cell_ = 1.0;
   // A margin of cells around the workpiece keeps tools at the rim in their own cells.
   x0_ = b.x0 - 8 * cell_;
@@ -20,6 +20,12 @@ void OpGrid::build(const Model& model) {
   ids_.clear();
   supports_.clear();
   workpiece_ = model.workpiecePtr();
+}
+
+void OpGrid::setMinCellSize(double mm) {
+  if (mm == minCell_) return;
+  minCell_ = mm;
+  cells_.clear();  // (sync() builds it again)
 }
 
 void OpGrid::newCells(size_t n) {

@@ -30,6 +30,11 @@ class OpGrid {
   // only those at index `from` or after (the rest of a pile left out before the sort).
   std::span<const std::uint32_t> in(const Box2& box, std::vector<std::uint32_t>& scratch, std::uint32_t from = 0) const;
 
+  // Cells at least this wide (mm; 0: none): the next sync() builds the grid again when it changes.
+  // The sheet model's renderer asks for one (Renderer::sync()): its offsets come from the
+  // displacement field, and a grid of 256 cells across a small workpiece made a stroke's insert
+  // and removal touch a thousand cells and more.
+  void setMinCellSize(double mm);
   double cellSize() const { return cell_; }
   size_t cellCount() const { return cells_.size(); }
   // Mean list length over the cells that hold anything (for --stats).
@@ -45,6 +50,7 @@ class OpGrid {
   bool cellRange(const Box2& b, int& cx0, int& cy0, int& cx1, int& cy1) const;
 
   double requestedCell_;
+  double minCell_ = 0.0;
   double cell_ = 1.0;
   double x0_ = 0, y0_ = 0;
   int nx_ = 0, ny_ = 0;

@@ -39,6 +39,8 @@ inline constexpr double kFieldMargin = 2.0;       // mm of field beyond the work
 // Set operations' boxes a field-tracer ray crosses from which it is searched on its cells' ends
 // inside their window (traceField: a tangle of a blending punch's beads).
 inline constexpr int kDenseSetOps = 8;
+// The operation grid's smallest cell under the sheet model, mm (Renderer::sync()).
+inline constexpr double kSheetGridCell = 1.0;
 // A cell is searched down to h / 16 (docs/rendering.md, "The root finder": h / 64 cost 6 % more
 // instructions a frame, and differed in a few hundred pixels of a million).
 inline constexpr int kSubdivisions = 16;

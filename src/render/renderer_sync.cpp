@@ -20,6 +20,10 @@ void Renderer::sync(const Model& model) {
   // Another model is followed from scratch (its operation ids are its own).
   if (model_ != &model) fieldReady_ = false;
   model_ = &model;
+  // The sheet model's offsets come from the field: the grid serves set operations, patina and
+  // dirty regions, and cells of a millimetre at least keep a stroke's insert cheap on a small
+  // workpiece (docs/performance.md, "Stop 53").
+  grid_.setMinCellSize(model.deformation() == Deformation::Sheet ? kSheetGridCell : 0.0);
   grid_.sync(model);
   bounds_ = model.bounds();
   // The step: a quarter of the sheet's thickness, at most 0.25 mm: a sheet can never slip between
