@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -53,6 +54,8 @@ void onSignal(int) { gStop = 1; }
 constexpr const char* kDefaultConfig = "/etc/emboss/kiosk.conf";
 // How long SIGTERM waits for the last frame to be traced for --snapshot (the unit gives 15 s).
 constexpr double kLastFrameLimitMs = 10000.0;
+// The longest the main loop sleeps with nothing to do and no descriptor readable (seconds).
+constexpr double kIdleWaitS = 0.05;
 
 // Log lines may start with a syslog priority, "<7>" (debug) .. "<3>" (error); none is info (6).
 // Lines above --log-level are not written. When stderr is the journal (JOURNAL_STREAM names it)
@@ -427,6 +430,7 @@ int main(int argc, char** argv) {
     const double t0 = monotonicSeconds();
     double lastProbe = t0, lastDisplayTry = t0, lastCameraProbe = t0, lastGpioProbe = t0;
     std::vector<X11Event> xev;
+    std::vector<pollfd> waitFds;
     bool closed = false;
     bool displayMissing = false;  // the display was lost; a stand-in in memory is shown meanwhile
     while (!gStop) {
@@ -520,13 +524,25 @@ int main(int argc, char** argv) {
           logLine("display: back: " + screen->name());
         }
       }
-      // Nothing to trace, or attract mode's next work waits for the next tick (a camera in motion:
-      // its next preview; the loop turned thousands of times a second): wait for the pen (where it
-      // has a descriptor), at most 5 ms.
-      if (const int ms = app.busy() ? std::min(5, static_cast<int>(app.idleSeconds() * 1000.0)) : 5; ms > 0) {
-        pollfd pfd{pen ? pen->fd() : -1, POLLIN, 0};
-        if (pfd.fd >= 0) ::poll(&pfd, 1, ms);
-        else std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+      // Tracing: attract mode's next work may wait for the next tick (a camera in motion: its next
+      // preview; the loop turned thousands of times a second), at most 5 ms. Nothing to trace: the
+      // loop sleeps until a descriptor is readable (the pen, the GPIO buttons, embossctl), a source
+      // must be polled (a pen without a descriptor, a recording's next sample, a button's debounce
+      // or long-press deadline) or an animated screen's next tick is due (attract mode paused, the
+      // countdown); at most kIdleWaitS, the lateness the loop's other clocks allow (the probes, the
+      // idle timeout, an export's progress). It turned every 5 ms, which cost about 2 % of a core
+      // with the screen unchanged. An X11 window keeps the 5 ms: Xlib may hold events it read in
+      // passing, with nothing left on its socket to wake a poll.
+      double wait = app.busy() ? std::min(kPollPaceS, app.idleSeconds()) : std::min(x11 ? kPollPaceS : kIdleWaitS, app.wakeWithin());
+      if (pen) wait = std::min(wait, pen->pollWithin());
+      if (gpio) wait = std::min(wait, gpio->pollWithin());
+      if (wait > 0.0) {
+        waitFds.clear();
+        if (pen && pen->fd() >= 0) waitFds.push_back({pen->fd(), POLLIN, 0});
+        if (gpio && gpio->fd() >= 0) waitFds.push_back({gpio->fd(), POLLIN, 0});
+        if (staffSocket) staffSocket->addPollFds(waitFds);
+        const timespec ts{static_cast<time_t>(wait), static_cast<long>((wait - std::floor(wait)) * 1e9)};
+        ::ppoll(waitFds.data(), waitFds.size(), &ts, nullptr);
       }
     }
     if (gStop) logLine("stopping (signal)");

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -301,6 +302,14 @@ bool GpioButtons::poll(std::vector<ButtonEvent>& out) {
   }
   gestures_.advance(monotonicSeconds(), out);
   return true;
+}
+
+double GpioButtons::pollWithin() const {
+  if (gone_) return 0.0;
+  double within = std::numeric_limits<double>::infinity();
+  if (std::any_of(lines_.begin(), lines_.end(), [](const Line& l) { return l.levels; })) within = kLevelPeriodS;
+  if (const std::optional<double> d = gestures_.nextDeadline()) within = std::min(within, std::max(0.0, *d - monotonicSeconds()));
+  return within;
 }
 
 }  // namespace emboss

@@ -52,6 +52,9 @@ class GpioButtons final : public ButtonSource {
   // An epoll descriptor that is readable when any line read as edges has an edge pending (for
   // waking the main loop; poll() itself looks at the line descriptors).
   int fd() const override { return epoll_.get(); }
+  // The gestures' next deadline (a debounce settling, a long press, a chord's window), and the
+  // reader thread's 20 ms while any line is read as levels (its edges do not wake the epoll).
+  double pollWithin() const override;
 
  private:
   struct ChipClose {

@@ -3,6 +3,7 @@
 
 
 #include <algorithm>
+#include <limits>
 
 #include "input/evemu.h"
 #include "input/hidrecord.h"
@@ -29,6 +30,12 @@ bool ReplayPen::poll(std::vector<PenSample>& out) {
   const double due = samples_.front().time_s + (now - start_);
   while (next_ < samples_.size() && samples_[next_].time_s <= due) out.push_back(samples_[next_++]);
   return true;
+}
+
+double ReplayPen::pollWithin() const {
+  if (finished()) return std::numeric_limits<double>::infinity();
+  if (fast_ || !started_) return 0.0;
+  return std::max(0.0, samples_[next_].time_s - samples_.front().time_s - (now_() - start_));
 }
 
 Result<std::unique_ptr<PenSource>> openEvemuReplay(const std::filesystem::path& events, bool fast) {

@@ -26,6 +26,9 @@ class ReplayPen final : public PenSource {
   std::string name() const override { return name_; }
   bool poll(std::vector<PenSample>& out) override;  // never false: a recording cannot be unplugged
   bool finished() const override { return next_ >= samples_.size(); }
+  // When the next sample is due: 0 before the first poll() and when fed as fast as possible,
+  // infinity once every sample is out.
+  double pollWithin() const override;
 
   size_t played() const { return next_; }
   size_t size() const { return samples_.size(); }

@@ -138,4 +138,10 @@ void StaffSocket::poll(const Handler& handle, const Poller& pending) {
   std::erase_if(clients_, [](const Client& c) { return c.fd < 0; });
 }
 
+void StaffSocket::addPollFds(std::vector<pollfd>& out) const {
+  out.push_back({fd_, POLLIN, 0});
+  for (const Client& c : clients_)
+    if (c.fd >= 0 && !c.waiting) out.push_back({c.fd, POLLIN, 0});
+}
+
 }  // namespace emboss

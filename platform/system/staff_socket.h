@@ -1,6 +1,8 @@
 // The kiosk's end of the staff socket: embossctl's requests, one JSON line each, answered on the main loop.
 #pragma once
 
+#include <poll.h>
+
 #include <functional>
 #include <memory>
 #include <optional>
@@ -28,6 +30,9 @@ class StaffSocket {
   // Non-blocking: takes new connections, reads what they sent, answers what can be answered.
   void poll(const Handler& handle, const Poller& pending);
   const std::string& path() const { return path_; }
+  // Appends the descriptors to wait on for the next poll() (the listening socket, the connections
+  // with a request still to read), POLLIN each.
+  void addPollFds(std::vector<pollfd>& out) const;
 
   // Where the socket is by default: $RUNTIME_DIRECTORY/staff.sock under systemd, else
   // $XDG_RUNTIME_DIR/emboss-kiosk-staff.sock, else /tmp/emboss-kiosk-staff-UID.sock.

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "app/kiosk_app_detail.h"
 #include "app/memory_display.h"
@@ -144,6 +145,13 @@ double KioskApp::idleSeconds() const {
   if (states_.mode() != KioskMode::Attract || !queue_.empty() || (composer_->pending() && !composer_->waiting())) return 0.0;
   return std::max(0.0, nextAnimation_ - clock_());
 }
+
+double KioskApp::wakeWithin() const {
+  if (!animated()) return std::numeric_limits<double>::infinity();
+  return std::max(0.0, nextAnimation_ - clock_());
+}
+
+bool KioskApp::animated() const { return states_.mode() != KioskMode::Visitor || capture_.phase == CapturePhase::Running; }
 
 bool KioskApp::feedDone() const { return fast_ && (!pen_ || pen_->finished()) && queue_.empty(); }
 
@@ -306,7 +314,7 @@ bool KioskApp::step() {
     composer_->show(attract_->model(), attract_->camera(), attract_->shading(), ch, attract_->moving());
   }
   const Steady::time_point tModel = Steady::now();
-  const bool animated = m != KioskMode::Visitor || capture_.phase == CapturePhase::Running;
+  const bool animated = this->animated();
   // Refinement bands fill the step's budget; on an animated screen they stop short of the next
   // tick of the grid below (the dirty rectangles are traced whatever the budget).
   const bool drawing = m == KioskMode::Visitor;

@@ -91,6 +91,10 @@ class KioskApp {
   // While busy(): how long the loop may sleep now (attract mode with nothing to trace before
   // its next 30 Hz tick, or its work waiting for the start of the next period), else 0.
   double idleSeconds() const;
+  // While not busy(): within how many seconds step() has timed work of its own: the next tick of
+  // an animated screen's 30 Hz grid (attract mode, the countdown, the staff screen, a capture);
+  // infinity on the visitor's screen, which waits for input.
+  double wakeWithin() const;
   // The pen stopped answering (unplugged); main() may look for another and call setPen().
   bool penLost() const { return penLost_; }
   // A recording fed with fast has been played to its end and every sample taken.
@@ -165,6 +169,8 @@ class KioskApp {
   void connectPicker();
   bool pickThroughRenderer_ = true;
   void handleEvents(double now);
+  // The screen is presented on the 30 Hz grid (not only when the picture changes).
+  bool animated() const;
   void saveSession(const std::string& why);
   // The journal learns what changed on the bench since the last call (operations, undo, metal).
   void journalSync();

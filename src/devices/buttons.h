@@ -1,9 +1,12 @@
 // Buttons: the kiosk's few big hardware buttons (GPIO) or the keyboard standing in for them.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "devices/poll_pace.h"
 
 namespace emboss {
 
@@ -41,6 +44,10 @@ class ButtonSource {
   // Appends the events available now; false when the device is gone.
   virtual bool poll(std::vector<ButtonEvent>& out) = 0;
   virtual int fd() const { return -1; }
+  // Within how many seconds from now poll() must be called again when fd() has not become readable
+  // meanwhile: never (infinity) for a source with a descriptor and nothing pending, kPollPaceS for
+  // one that must be polled; GPIO buttons know their debounce and long-press deadlines.
+  virtual double pollWithin() const { return fd() >= 0 ? std::numeric_limits<double>::infinity() : kPollPaceS; }
 };
 
 // Button events handed in by the program itself (the soak benchmark, tests), taken at the next poll.

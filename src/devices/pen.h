@@ -1,10 +1,13 @@
 // The pen: samples from a pressure tablet (real, replayed or the mouse), normalised to the tablet.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "devices/poll_pace.h"
 
 namespace emboss {
 
@@ -34,6 +37,10 @@ class PenSource {
   virtual bool poll(std::vector<PenSample>& out) = 0;
   // A file descriptor to wait on, or -1 when the source must be polled.
   virtual int fd() const { return -1; }
+  // Within how many seconds from now poll() must be called again when fd() has not become readable
+  // meanwhile: never (infinity) for a source with a descriptor, kPollPaceS for one that must be
+  // polled; a recording knows when its next sample is due.
+  virtual double pollWithin() const { return fd() >= 0 ? std::numeric_limits<double>::infinity() : kPollPaceS; }
   // True when a recording has been played to its end.
   virtual bool finished() const { return false; }
 };

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "app/attract_library.h"
@@ -476,6 +477,42 @@ TEST(KioskApp, AttractModeIsPresentedThirtyTimesASecond) {
     // 120 ticks in 4 s; a turn lands on a tick at most one pace late, never skipping one.
     EXPECT_NEAR(static_cast<double>(app.presents() - before), 120.0, 1.0) << "a turn every " << pace * 1000 << " ms";
   }
+}
+
+// The kiosk's main loop sleeps as the app allows: while busy(), idleSeconds() (at most 5 ms); else
+// up to wakeWithin() (at most 50 ms, the loop's cap). Attract mode still gets every 30 Hz tick; a
+// visitor's still screen lets the loop sleep until input comes; the countdown is animated again.
+TEST(KioskApp, TheLoopSleepsOnAStillScreenYetWakesForEveryTick) {
+  const fs::path dir = test::scratchDir("kiosk-app-wake");
+  double t = 0;
+  MemoryDisplay display(kW, kH);
+  KioskConfig config = testConfig(dir);
+  KioskApp app(config, tinyPieces(), display, {}, [&] { return t; });
+  auto sleep = [&] {
+    const double wait = app.busy() ? std::min(0.005, app.idleSeconds()) : std::min(0.05, app.wakeWithin());
+    t += std::max(wait, 1e-4);
+  };
+  app.step();
+  ASSERT_EQ(app.mode(), KioskMode::Attract);
+  const size_t before = app.presents();
+  const double start = t;
+  int turns = 0;
+  while (t < start + 4.0 - 1e-9) sleep(), app.step(), ++turns;
+  EXPECT_NEAR(static_cast<double>(app.presents() - before), 120.0, 1.0);
+  EXPECT_LE(app.wakeWithin(), 1.0 / 30.0 + 1e-9);
+
+  QueuedButtons buttons;
+  app.addButtons(&buttons);
+  buttons.tap(Action::NextTool, t);  // a visitor
+  app.step();
+  ASSERT_EQ(app.mode(), KioskMode::Visitor);
+  for (int i = 0; i < 1000 && app.busy(); ++i) sleep(), app.step();
+  ASSERT_FALSE(app.busy());
+  EXPECT_EQ(app.wakeWithin(), std::numeric_limits<double>::infinity());  // nothing moves until input
+  t += config.idleSeconds + 0.5;
+  app.step();
+  ASSERT_EQ(app.mode(), KioskMode::StillThere);
+  EXPECT_LE(app.wakeWithin(), 1.0 / 30.0 + 1e-9);  // the countdown runs on the grid
 }
 
 TEST(AttractPlayer, PlaysPiecesOperationByOperationThenTurnsAndLoops) {

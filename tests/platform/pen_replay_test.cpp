@@ -1,6 +1,9 @@
 // Tests for the replay pen: real-time pacing against a fake clock, fast replay, and the evemu factory.
 #include <gtest/gtest.h>
 
+#include <limits>
+
+#include "devices/buttons.h"
 #include "pen/pen_replay.h"
 #include "test_support.h"
 
@@ -58,6 +61,46 @@ TEST(ReplayPen, RealTimeFollowsTheClock) {
   pen.poll(out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_TRUE(pen.finished());
+}
+
+TEST(ReplayPen, SaysWhenItsNextSampleIsDue) {
+  // The kiosk's main loop sleeps that long with nothing else to do: a sample due later than it
+  // says would come late, one due sooner would make the loop spin.
+  double now = 5.0;
+  ReplayPen pen(timed({100.0, 100.1, 100.25, 101.0}), "test", false, [&] { return now; });
+  EXPECT_EQ(pen.pollWithin(), 0.0);  // the first poll() starts the clock
+  std::vector<PenSample> out;
+  pen.poll(out);
+  EXPECT_NEAR(pen.pollWithin(), 0.1, 1e-9);
+  now = 5.04;
+  EXPECT_NEAR(pen.pollWithin(), 0.06, 1e-9);
+  now += pen.pollWithin();
+  out.clear();
+  pen.poll(out);
+  ASSERT_EQ(out.size(), 1u);  // due when it said
+  EXPECT_DOUBLE_EQ(out[0].time_s, 100.1);
+  EXPECT_NEAR(pen.pollWithin(), 0.15, 1e-9);
+  now = 5.5;  // polled late: due at once
+  EXPECT_EQ(pen.pollWithin(), 0.0);
+  pen.poll(out);
+  now = 6.0;
+  pen.poll(out);
+  ASSERT_TRUE(pen.finished());
+  EXPECT_EQ(pen.pollWithin(), std::numeric_limits<double>::infinity());
+
+  ReplayPen fast(timed({100.0, 101.0}), "fast", true, [&] { return now; });
+  EXPECT_EQ(fast.pollWithin(), 0.0);  // fed as fast as possible: always due
+  fast.poll(out);
+  EXPECT_EQ(fast.pollWithin(), std::numeric_limits<double>::infinity());
+}
+
+TEST(ReplayPen, SourcesSayHowOftenToPollThem) {
+  // A source with a descriptor waits for it; one without is polled at the loop's pace.
+  QueuedPen queued;
+  EXPECT_EQ(queued.fd(), -1);
+  EXPECT_EQ(queued.pollWithin(), kPollPaceS);
+  QueuedButtons buttons;
+  EXPECT_EQ(buttons.pollWithin(), kPollPaceS);
 }
 
 TEST(ReplayPen, EmptyRecordingIsFinished) {
