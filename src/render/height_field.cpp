@@ -53,6 +53,7 @@ void HeightField::configure(const Box2& domain, double spacing, bool cavity) {
   samples_.assign(static_cast<size_t>(nx_) * ny_, Sample{});
   cavity_.clear();
   taps_.clear();
+  tapWeights_.clear();
   cavityReach_ = 0;
   if (cavity) {
     cavity_.assign(samples_.size(), 0.0f);
@@ -67,6 +68,12 @@ void HeightField::configure(const Box2& domain, double spacing, bool cavity) {
         if (w[t] > 0.0) taps_.push_back({di + (t & 1), dj + (t >> 1), static_cast<float>(w[t] / 6.0)});
       cavityReach_ = std::max({cavityReach_, std::abs(di) + 1, std::abs(dj) + 1});
     }
+  }
+  tapLo_[0] = tapLo_[1] = tapHi_[0] = tapHi_[1] = 0;
+  for (const Tap& t : taps_) {
+    tapWeights_.push_back(t.w);
+    tapLo_[0] = std::min(tapLo_[0], t.di), tapHi_[0] = std::max(tapHi_[0], t.di);
+    tapLo_[1] = std::min(tapLo_[1], t.dj), tapHi_[1] = std::max(tapHi_[1], t.dj);
   }
   levels_.clear();
   int w = (nx_ - 1 + kBlock - 1) / kBlock, h = (ny_ - 1 + kBlock - 1) / kBlock;
@@ -290,15 +297,14 @@ void HeightField::updateCavity(const SampleRect& r) {
   // float, in the taps' order (in lanes: tapSumsLanes()); near them the ring is read through
   // valueBilinear() (clamped to the domain). Either way a function of the sample's position and
   // the D around it alone, so an update over part of the lattice gives the bits a full one does.
-  int tiLo = 0, tiHi = 0, tjLo = 0, tjHi = 0;
-  for (const Tap& t : taps_) tiLo = std::min(tiLo, t.di), tiHi = std::max(tiHi, t.di), tjLo = std::min(tjLo, t.dj), tjHi = std::max(tjHi, t.dj);
+  const int tiLo = tapLo_[0], tiHi = tapHi_[0], tjLo = tapLo_[1], tjHi = tapHi_[1];
   auto edge = [&](int i, int j) {
     const double ring = cavityRingMean(sampleX(i), sampleY(j), [&](double x, double y) { return valueBilinear(x, y); });
     cavity_[static_cast<size_t>(j) * nx_ + i] = static_cast<float>(ring - at(i, j).d);
   };
   // D of the samples the rect's taps read, row by row without the other three floats of a sample:
   // each tap's row is then read in lanes.
-  thread_local std::vector<float> plane, weights;
+  thread_local std::vector<float> plane;
   thread_local std::vector<const float*> rows;
   const int pi0 = std::max(0, r.i0 + tiLo), pi1 = std::min(nx_ - 1, r.i1 + tiHi);
   const int pj0 = std::max(0, r.j0 + tjLo), pj1 = std::min(ny_ - 1, r.j1 + tjHi);
@@ -311,8 +317,6 @@ void HeightField::updateCavity(const SampleRect& r) {
     for (int k = 0; k < pw; ++k) dst[k] = src[k].d;
   }
   auto inPlane = [&](int i, int j) { return &plane[static_cast<size_t>(j - pj0) * pw + static_cast<size_t>(i - pi0)]; };
-  weights.clear();
-  for (const Tap& t : taps_) weights.push_back(t.w);
   rows.resize(taps_.size());
   for (int j = r.j0; j <= r.j1; ++j) {
     const bool rowInside = j + tjLo >= 0 && j + tjHi <= ny_ - 1;
@@ -320,7 +324,7 @@ void HeightField::updateCavity(const SampleRect& r) {
     for (int i = r.i0; i < std::min(a, r.i1 + 1); ++i) edge(i, j);
     if (a <= b) {
       for (size_t t = 0; t < taps_.size(); ++t) rows[t] = inPlane(a + taps_[t].di, j + taps_[t].dj);
-      tapSumsLanes(rows.data(), weights.data(), static_cast<int>(taps_.size()), inPlane(a, j), b - a + 1,
+      tapSumsLanes(rows.data(), tapWeights_.data(), static_cast<int>(taps_.size()), inPlane(a, j), b - a + 1,
                    &cavity_[static_cast<size_t>(j) * nx_ + a]);
     }
     for (int i = std::max(b + 1, a); i <= r.i1; ++i) edge(i, j);

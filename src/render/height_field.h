@@ -199,6 +199,8 @@ class HeightField {
   };
   std::vector<float> cavity_;
   std::vector<Tap> taps_;
+  std::vector<float> tapWeights_;  // taps_'s weights alone, in their order (for tapSumsLanes())
+  int tapLo_[2] = {0, 0}, tapHi_[2] = {0, 0};  // the taps' least and greatest offsets along i and j
   int cavityReach_ = 0;
 };
 
