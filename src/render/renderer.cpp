@@ -107,9 +107,6 @@ std::optional<Renderer::Hit> Renderer::traceExact(double sx, double sy, RenderSt
 
 namespace {
 
-// Sub-pixel offsets of the extra samples on an edge: with the centre, three on the pixel's
-// diagonal, so that no two share a row or column (a horizontal or a vertical edge gets four levels).
-constexpr double kEdgeSamples[2][2] = {{-0.3333, -0.3333}, {0.3333, 0.3333}};
 // An edge: the sheet against the backdrop, or a crease (neighbours' normals more than ~30 degrees
 // apart: a groove's lip, a rim, a punch's shoulder). Smooth shading (the dimples, a highlight
 // across a dome) is no edge: extra rays there cost the frame far more than a visitor sees (with a
@@ -125,9 +122,9 @@ Rect grownWithin(const Rect& r, int n, int w, int h) {
 }  // namespace
 
 glm::dvec3 Renderer::sample(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                            std::vector<std::uint32_t>& scratch) const {
+                            std::vector<std::uint32_t>& scratch, double* kept, bool reuse) const {
   glm::vec3 n;
-  if (const auto c = shadeRay(sx, sy, field, reach, st, scratch, n)) return *c;
+  if (const auto c = shadeRay(sx, sy, field, reach, st, scratch, n, kept, reuse)) return *c;
   return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
 }
 
@@ -260,6 +257,14 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   // again instead of tracing.
   HitCache& cache = hitCaches_[0];
   double* const kept = field && cache.t.size() == static_cast<size_t>(w) * h ? cache.t.data() : nullptr;
+  // The edges' samples' kept hits, set up (none known) by the first anti-aliased frame after
+  // setCamera() or forgetMovedHits() dropped them.
+  if (kept && antialias && cache.sampled.size() != cache.t.size()) {
+    cache.samples.resize(2 * cache.t.size());  // (read only where `sampled` says)
+    cache.sampled.assign(cache.t.size(), 0);
+  }
+  double* const keptSamples = kept && antialias ? cache.samples.data() : nullptr;
+  std::uint8_t* const sampled = kept && antialias ? cache.sampled.data() : nullptr;
   if (kept && cache.blank) {
     cache.blank = false;
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -399,11 +404,22 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     int x, y;
     glm::dvec3 c, samples[2];
   };
+  // Edge pixel (x, y)'s sample k's kept hit (NaN: not known; a stopped frame leaves it so).
+  const auto sampleSlot = [&](int x, int y, int k) -> double* {
+    if (!keptSamples) return nullptr;
+    const size_t i = static_cast<size_t>(y) * w + x;
+    if (!sampled[i]) {
+      keptSamples[2 * i] = keptSamples[2 * i + 1] = std::numeric_limits<double>::quiet_NaN();
+      sampled[i] = 1;
+    }
+    return keptSamples + 2 * i + k;
+  };
   thread_local std::vector<EdgePixel> edges;
   thread_local ShadeBatch batch;
   thread_local std::array<int, ShadeBatch::kCapacity> slots;  // 2 e + k: edge e's sample k
-  // The field tracer's edge samples: their image points, found together (findFieldHits()).
-  thread_local std::vector<double> xs, ys;
+  // The field tracer's edge samples: their image points, found together (findFieldHits()), and
+  // their kept hits (gathered from the cache and put back).
+  thread_local std::vector<double> xs, ys, ks;
   thread_local std::vector<std::optional<Hit>> found;
   const auto flush = [&](RenderStats& st, std::vector<std::uint32_t>& scratch) {
     finish(batch, st, scratch, [](int, const glm::dvec3&) {}, [&](int j, const glm::dvec3& c) {
@@ -428,12 +444,15 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   // The tile's edge samples traced and shaded, and its edges written.
   const auto edgesDone = [&](RenderStats& st, std::vector<std::uint32_t>& scratch, bool stopped) {
     if (stopped || !inLanes) {
-      edges.clear(), xs.clear(), ys.clear(), batch.n = 0;
+      edges.clear(), xs.clear(), ys.clear(), ks.clear(), batch.n = 0;
       return;
     }
     if (!xs.empty()) {
       found.resize(xs.size());
-      findFieldHits(xs.data(), ys.data(), static_cast<int>(xs.size()), reach, st, scratch, nullptr, false, found.data());
+      findFieldHits(xs.data(), ys.data(), static_cast<int>(xs.size()), reach, st, scratch, keptSamples ? ks.data() : nullptr,
+                    reuse, found.data());
+      if (keptSamples)
+        for (size_t j = 0; j < ks.size(); ++j) *sampleSlot(edges[j / 2].x, edges[j / 2].y, static_cast<int>(j % 2)) = ks[j];
       for (size_t j = 0; j < found.size(); ++j) {
         const std::optional<Hit>& sh = found[j];
         if (!sh) {  // as sample() gives it
@@ -445,7 +464,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       }
     }
     if (batch.n > 0) flush(st, scratch);
-    xs.clear(), ys.clear();
+    xs.clear(), ys.clear(), ks.clear();
     writeEdges();
   };
   return pass(spans, &RenderStats::shadeSeconds, [&](int y, int x0, int x1, RenderStats& st, std::vector<std::uint32_t>& scratch) {
@@ -469,7 +488,9 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       ++st.edgePixels;
       if (!lanes) {
         glm::dvec3 sum = c;
-        for (const auto& o : kEdgeSamples) sum += sample(x + 0.5 + o[0], y + 0.5 + o[1], field, reach, st, scratch);
+        for (int k = 0; k < 2; ++k)
+          sum += sample(x + 0.5 + kEdgeSamples[k][0], y + 0.5 + kEdgeSamples[k][1], field, reach, st, scratch,
+                        sampleSlot(x, y, k), reuse);
         put(x, sum / 3.0);
         continue;
       }
@@ -477,11 +498,13 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       edges.push_back(EdgePixel{x, y, c, {}});
       for (int k = 0; k < 2; ++k) {
         const double sx = x + 0.5 + kEdgeSamples[k][0], sy = y + 0.5 + kEdgeSamples[k][1];
+        double* const slot = sampleSlot(x, y, k);
         if (inLanes) {
           xs.push_back(sx), ys.push_back(sy);
+          if (slot) ks.push_back(*slot);
           continue;
         }
-        const std::optional<Hit> sh = findHit(sx, sy, field, reach, st, scratch, nullptr, false, !field);
+        const std::optional<Hit> sh = findHit(sx, sy, field, reach, st, scratch, slot, reuse, !field);
         if (!sh) {  // as sample() gives it
           edges.back().samples[k] = backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), w, h);
           continue;

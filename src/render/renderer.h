@@ -32,7 +32,7 @@ struct RenderStats {
   double traceSeconds = 0.0;      // time spent finding surfaces (wall clock per tile, summed over tiles)
   double shadeSeconds = 0.0;      // time spent on the second pass: edges' extra rays, sRGB (likewise)
   std::uint64_t edgePixels = 0;   // pixels anti-aliased with two extra rays
-  std::uint64_t reshaded = 0;     // centre rays not traced again: their kept hit shaded anew
+  std::uint64_t reshaded = 0;     // rays not traced again: their kept hit shaded anew
   std::uint64_t denseRays = 0;    // field-tracer rays through a tangle of set operations (kDenseSetOps)
   std::uint64_t laneRays = 0;     // field-tracer rays whose walk went into SIMD lanes (walk_lanes.h)
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
@@ -209,9 +209,16 @@ class Renderer {
   // (the projection of what it changes in f, without the shading's reach), a change of the set
   // operations or a rebuild all of them. The last three cameras' (the frame's, a preview's or a
   // coarse picture's, and the coarsest a stopped coarse picture falls back to).
+  // An edge pixel's two sample rays' hits are kept the same way (forgotten by the same test, ray
+  // by ray), so that an edge a change cannot reach is shaded again rather than sampled again.
   struct HitCache {
     std::optional<Camera> camera;
     std::vector<double> t;
+    // Per pixel its edge samples' t (+inf a miss, NaN not known), two a pixel, read only where
+    // `sampled` is 1. `sampled` is empty when none is known (a new camera, everything forgotten)
+    // and set up by the next render() that anti-aliases.
+    std::vector<double> samples;
+    std::vector<std::uint8_t> sampled;
     // Set by setCamera() for a new camera: `t` is to be all NaN, filled by the next render() (a
     // camera in motion is set several times a frame, and each fill was 8 MB at 1280x800).
     bool blank = false;
@@ -350,7 +357,7 @@ class Renderer {
                                      bool reuse = false) const;
   // The same, the backdrop where it misses.
   glm::dvec3 sample(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                    std::vector<std::uint32_t>& scratch) const;
+                    std::vector<std::uint32_t>& scratch, double* kept = nullptr, bool reuse = false) const;
   // dirtySpans() before the anti-aliasing's one pixel.
   PixelSpans dirtySpansOfRays(const Model& model, size_t index) const;
   template <class T>

@@ -47,6 +47,7 @@ void Renderer::setCamera(const Camera& camera) {
   if (!toFront(hitCaches_, [&](const HitCache& h) { return h.camera && sameCamera(*h.camera, camera); })) {
     hitCaches_[0].camera = camera;
     hitCaches_[0].t.resize(static_cast<size_t>(camera.width()) * camera.height());
+    hitCaches_[0].sampled.clear();
     hitCaches_[0].blank = true;
   }
   // The backdrop depends on the pixel and the picture's size alone: computed once per size, the

@@ -44,6 +44,9 @@ inline constexpr double kSheetGridCell = 1.0;
 // A cell is searched down to h / 16 (docs/rendering.md, "The root finder": h / 64 cost 6 % more
 // instructions a frame, and differed in a few hundred pixels of a million).
 inline constexpr int kSubdivisions = 16;
+// Sub-pixel offsets of the extra samples on an edge: with the centre, three on the pixel's
+// diagonal, so that no two share a row or column (a horizontal or a vertical edge gets four levels).
+inline constexpr double kEdgeSamples[2][2] = {{-0.3333, -0.3333}, {0.3333, 0.3333}};
 inline constexpr double kPruneEps = 1e-7;         // mm: a bound must clear zero by this much to skip
 // A walk step's stretch is found for a slope bound of at least this along the ray (traceField()).
 inline constexpr double kStepRate = 0.9;

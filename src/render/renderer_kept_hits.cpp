@@ -20,7 +20,7 @@ void Renderer::forgetMovedHits(bool followed, const std::vector<std::uint64_t>& 
     return;
   }
   for (HitCache& cache : hitCaches_)
-    if (cache.camera) cache.blank = true;
+    if (cache.camera) cache.blank = true, cache.sampled.clear();
 }
 
 namespace {
@@ -77,6 +77,9 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
     // projects without the shading's reach; the sheet before and after within `peaks` of now.
     const Camera& camera = *cache.camera;
     const int w = camera.width();
+    // The edges' samples' kept hits, where there are (their slots read where `sampled` says).
+    std::uint8_t* const sampled = cache.sampled.size() == cache.t.size() ? cache.sampled.data() : nullptr;
+    const double* const samples = sampled ? cache.samples.data() : nullptr;
     const double grow = 2.0 * std::sqrt(2.0) * field_.spacing() + step_ + 1e-6;
     // A perspective camera's rays along a row: from the eye, their directions scaled to a forward
     // part of 1 step by the same vector from pixel to pixel (a pixel's divisions: the direction's
@@ -101,7 +104,10 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
           std::any_of(pieces.pieces.begin(), pieces.pieces.end(), [](const auto& p) { return p.size() > 2; })) {
         for (int y = px.box.y; y < px.box.y + px.box.h; ++y) {
           const PixelSpans::Span row = px.row(y);
-          if (!row.empty()) std::fill(cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x0, cache.t.begin() + static_cast<std::ptrdiff_t>(y) * w + row.x1, nan);
+          if (row.empty()) continue;
+          const auto i0 = static_cast<std::ptrdiff_t>(y) * w + row.x0, i1 = static_cast<std::ptrdiff_t>(y) * w + row.x1;
+          std::fill(cache.t.begin() + i0, cache.t.begin() + i1, nan);
+          if (sampled) std::fill(sampled + i0, sampled + i1, std::uint8_t{0});
         }
         continue;
       }
@@ -127,11 +133,29 @@ void Renderer::forgetHitsNear(const std::vector<FieldChange>& changes) {
           if (segmentNear(a, b, piece, radius)) return true;
         return false;
       };
+      // Pixel (x, y)'s edge samples (when it has any kept): forgotten both when either ray can
+      // meet the change. (Few pixels have them: no division saved here.)
+      auto samplesMeet = [&](int x, int y, std::uint8_t* known, const double* ts) {
+        if (!*known) return;
+        for (int k = 0; k < 2; ++k) {
+          if (std::isnan(ts[k])) continue;
+          const Ray r = camera.rayAt(x + 0.5 + kEdgeSamples[k][0], y + 0.5 + kEdgeSamples[k][1]);
+          if (meets(r.origin, r.dir, 1.0, ts[k])) {
+            *known = 0;
+            return;
+          }
+        }
+      };
       auto rows = [&](const Rect& band) {
         for (int y = band.y; y < band.y + band.h; ++y) {
           const PixelSpans::Span row = px.row(y);
           double* const t = cache.t.data() + static_cast<std::ptrdiff_t>(y) * w;
           if (row.x0 >= row.x1) continue;
+          if (sampled) {
+            std::uint8_t* const known = sampled + static_cast<std::ptrdiff_t>(y) * w;
+            const double* const ts = samples + 2 * static_cast<std::ptrdiff_t>(y) * w;
+            for (int x = row.x0; x < row.x1; ++x) samplesMeet(x, y, known + x, ts + 2 * x);
+          }
           if (!perspective) {
             for (int x = row.x0; x < row.x1; ++x) {
               if (std::isnan(t[x])) continue;
