@@ -210,17 +210,27 @@ struct SmallPlateScene {
   explicit SmallPlateScene(unsigned seed) : piece(generatePiece(1, seed, smallPlate(1.0))), model(piece.workpiece, piece.deformation) {}
 };
 
-TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
+// A small plate with the generator's dozen strokes on it (its set operations left out), a renderer
+// on two threads for it.
+struct StrokedPlateScene {
   const PieceOptions opt = smallPlate(1.6);
-  const GeneratedPiece piece = generatePiece(12, 21, opt);
+  const GeneratedPiece piece;
+  ThreadPool pool{2};
+  Renderer live{pool};
+  Model model;
+  explicit StrokedPlateScene(unsigned seed) : piece(generatePiece(12, seed, opt)), model(piece.workpiece, piece.deformation) {
+    for (const Operation& op : piece.operations)
+      if (!op.isSet()) EXPECT_TRUE(model.add(op).ok());
+  }
+};
+
+TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
+  StrokedPlateScene scene(21);  // (set operations come last, below)
+  const PieceOptions& opt = scene.opt;
+  const GeneratedPiece& piece = scene.piece;
+  Renderer& live = scene.live;
+  Model& model = scene.model;
   PieceRandom rng(77);
-  ThreadPool pool(2);
-  Renderer live(pool);
-  Model model(piece.workpiece, piece.deformation);
-  for (const Operation& op : piece.operations)  // (set operations come last, below)
-    if (!op.isSet()) {
-      ASSERT_TRUE(model.add(op).ok());
-    }
   const Camera camera(piece.camera, 128, 80), small(piece.camera, 64, 40);
   live.setCamera(camera);
   live.setShading(shading(model));
@@ -300,16 +310,12 @@ TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
 // cache of another, whose rays end sooner), two punches at each: the same bytes as a fresh render
 // every time. Before them a coarse picture of another size without anti-aliasing.
 TEST(DirtyRegion, KeptEdgeSamplesAreTheirCamerasOwn) {
-  const PieceOptions opt = smallPlate(1.6);
-  const GeneratedPiece piece = generatePiece(12, 23, opt);
+  StrokedPlateScene scene(23);
+  const PieceOptions& opt = scene.opt;
+  const GeneratedPiece& piece = scene.piece;
+  Renderer& live = scene.live;
+  Model& model = scene.model;
   PieceRandom rng(31);
-  ThreadPool pool(2);
-  Renderer live(pool);
-  Model model(piece.workpiece, piece.deformation);
-  for (const Operation& op : piece.operations)
-    if (!op.isSet()) {
-      ASSERT_TRUE(model.add(op).ok());
-    }
   live.setShading(shading(model));
   live.sync(model);
   Image image;
