@@ -308,7 +308,8 @@ TEST(DirtyRegion, KeptHitsAreShadedAgainWhereAChangeCannotMoveThem) {
 // The edges' kept samples belong to the camera that traced them: four views of one size, each
 // nearer the plate than the last (one more than the renderer keeps, so a view takes over the
 // cache of another, whose rays end sooner), two punches at each: the same bytes as a fresh render
-// every time. Before them a coarse picture of another size without anti-aliasing.
+// every time. Before them a coarse picture of another size without anti-aliasing, and a view's
+// cache taken over by another whose first picture is a dirty update.
 TEST(DirtyRegion, KeptEdgeSamplesAreTheirCamerasOwn) {
   StrokedPlateScene scene(23);
   const PieceOptions& opt = scene.opt;
@@ -332,6 +333,15 @@ TEST(DirtyRegion, KeptEdgeSamplesAreTheirCamerasOwn) {
     views.emplace_back(spec, 128, 80);
   }
   const RenderOptions options;
+  // The nearest view's frame; then the three others set (the last takes over its cache) and the
+  // last one's whole picture rendered as a dirty update: no ray of it is kept yet.
+  live.setCamera(views[3]);
+  live.renderFull(image);
+  for (int k = 0; k < 3; ++k) live.setCamera(views[static_cast<size_t>(k)]);
+  RenderStats first;
+  ASSERT_TRUE(live.render(image, Rect{0, 0, 128, 80}, &first));
+  EXPECT_EQ(first.reshaded, 0u);
+  ASSERT_TRUE(againstFresh(model, views[2], options, image).empty());
   std::uint64_t reshaded = 0, edges = 0;
   for (int round = 0; round < 3; ++round)
     for (size_t k = 0; k < views.size(); ++k) {
