@@ -43,9 +43,19 @@ std::optional<glm::dvec3> pickSurface(const Model& model, const Camera& camera, 
   const auto& ops = model.operations();
   for (size_t i = 0; i < model.activeCount(); ++i)
     if (ops[i].support().overlaps(foot)) candidates.push_back(static_cast<std::uint32_t>(i));
+  // Each evaluation reads only the candidates whose support holds its point (or meets its box):
+  // outside its support an operation changes nothing, and an oblique ray's footprint crosses the
+  // supports of most of a busy sheet's operations.
+  std::vector<std::uint32_t> near;
+  auto nearTo = [&](const Box2& where) {
+    near.clear();
+    for (std::uint32_t i : candidates)
+      if (ops[i].support().overlaps(where)) near.push_back(i);
+    return std::span<const std::uint32_t>(near);
+  };
   auto f = [&](double t) {
     const glm::dvec3 p = ray.origin + ray.dir * t;
-    return model.evaluate(P3<double>{p.x, p.y, p.z}, std::span<const std::uint32_t>(candidates));
+    return model.evaluate(P3<double>{p.x, p.y, p.z}, nearTo(Box2{p.x, p.y, p.x, p.y}));
   };
   // Samples a step well under the sheet's thickness apart, so a ray cannot step over the sheet;
   // the first one inside is bracketed with the one before it and bisected.
@@ -68,7 +78,7 @@ std::optional<glm::dvec3> pickSurface(const Model& model, const Camera& camera, 
     const glm::dvec3 p = ray.origin + ray.dir * ts[a], q = ray.origin + ray.dir * ts[b];
     const P3<Interval> box{Interval(std::min(p.x, q.x), std::max(p.x, q.x)), Interval(std::min(p.y, q.y), std::max(p.y, q.y)),
                            Interval(std::min(p.z, q.z), std::max(p.z, q.z))};
-    if (model.evaluate(box, std::span<const std::uint32_t>(candidates)).hi < 0) return 0;
+    if (model.evaluate(box, nearTo(Box2{box.x.lo, box.y.lo, box.x.hi, box.y.hi})).hi < 0) return 0;
     const size_t m = a + (b - a) / 2;
     const size_t k = self(self, a, m);
     return k ? k : self(self, m + 1, b);

@@ -1,9 +1,12 @@
 // The visitor's bench: picking, the tablet mapping, strokes, undo by strokes, turning the piece.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <sstream>
 
 #include "app/stroke_builder.h"
@@ -105,6 +108,76 @@ TEST(SurfacePick, SkippingWhatIntervalsProveOutsideFindsTheSamePoints) {
     }
   EXPECT_GT(hits, 50);
   EXPECT_GT(misses, 20);
+}
+
+// Each of the pick's evaluations reads only the operations whose support holds its point or meets
+// its box. The points are those of the same march over the whole model, every operation evaluated
+// at every sample (written out here), on an attract piece at an angle: an oblique ray's footprint
+// crosses many supports that its points do not.
+TEST(SurfacePick, OperationsNearEachSampleFindTheWholeModelsPoints) {
+  std::ifstream in(std::filesystem::path(EMBOSS_SOURCE_DIR) / "firmware-app" / "pieces" / "2-shell.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  auto scene = parseScene(text.str(), "2-shell.json", ".");
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  auto model = scene->makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  const Camera cam(benchCamera(model->workpiece().bounds(), kW, kH), kW, kH);
+  // The march of pickSurface(), every sample evaluated over every operation.
+  auto whole = [&](double sx, double sy) -> std::optional<glm::dvec3> {
+    const Ray ray = cam.rayAt(sx, sy);
+    Box3 b = model->bounds();
+    b.x0 -= 1, b.y0 -= 1, b.z0 -= 1, b.x1 += 1, b.y1 += 1, b.z1 += 1;
+    double t0 = 0, t1 = std::numeric_limits<double>::infinity();
+    const double o[3] = {ray.origin.x, ray.origin.y, ray.origin.z}, d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+    const double lo[3] = {b.x0, b.y0, b.z0}, hi[3] = {b.x1, b.y1, b.z1};
+    for (int i = 0; i < 3; ++i) {
+      if (std::abs(d[i]) < 1e-15) {
+        if (o[i] < lo[i] || o[i] > hi[i]) return std::nullopt;
+        continue;
+      }
+      double a = (lo[i] - o[i]) / d[i], c = (hi[i] - o[i]) / d[i];
+      if (a > c) std::swap(a, c);
+      t0 = std::max(t0, a), t1 = std::min(t1, c);
+    }
+    if (t0 > t1) return std::nullopt;
+    auto f = [&](double t) {
+      const glm::dvec3 p = ray.origin + ray.dir * t;
+      return model->evaluate(P3<double>{p.x, p.y, p.z});
+    };
+    if (f(t0) >= 0) return ray.origin + ray.dir * t0;
+    const double h = std::clamp(0.35 * model->workpiece().halfThickness(), 0.02, 0.25);
+    double prev = t0;
+    for (double t = t0 + h;; t += h) {
+      const double s = std::min(t, t1);
+      if (f(s) >= 0) {
+        double a = prev, c = s;
+        for (int i = 0; i < 40; ++i) {
+          const double mid = 0.5 * (a + c);
+          if (f(mid) >= 0) c = mid; else a = mid;
+        }
+        return ray.origin + ray.dir * c;
+      }
+      if (s >= t1) return std::nullopt;
+      prev = s;
+    }
+  };
+  int hits = 0, misses = 0;
+  for (double y = 5.3; y < kH; y += 41)
+    for (double x = 4.7; x < kW; x += 43) {
+      const auto want = whole(x, y);
+      for (const bool skipOutside : {false, true}) {
+        const auto got = pickSurface(*model, cam, x, y, skipOutside);
+        ASSERT_EQ(want.has_value(), got.has_value()) << x << ", " << y << (skipOutside ? ", skipping" : "");
+        if (!want) continue;
+        EXPECT_EQ(want->x, got->x) << x << ", " << y << (skipOutside ? ", skipping" : "");
+        EXPECT_EQ(want->y, got->y) << x << ", " << y << (skipOutside ? ", skipping" : "");
+        EXPECT_EQ(want->z, got->z) << x << ", " << y << (skipOutside ? ", skipping" : "");
+      }
+      ++(want ? hits : misses);
+    }
+  EXPECT_GT(hits, 30);
+  EXPECT_GT(misses, 10);
 }
 
 TEST(SurfacePick, TabletAreaKeepsTheAspectAndCoversTheSheet) {
