@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <string>
 
 #include "app/stroke_builder.h"
 #include "app/surface_pick.h"
@@ -20,6 +21,16 @@ namespace emboss {
 namespace {
 
 constexpr int kW = 640, kH = 400;
+
+// An attract piece's model (firmware-app/pieces/<file>).
+Result<Model> attractPieceModel(const std::string& file) {
+  std::ifstream in(std::filesystem::path(EMBOSS_SOURCE_DIR) / "firmware-app" / "pieces" / file);
+  std::stringstream text;
+  text << in.rdbuf();
+  auto scene = parseScene(text.str(), file, ".");
+  if (!scene.ok()) return fail(scene.error());
+  return scene->makeModel();
+}
 
 Workbench makeBench() {
   BenchSetup s;
@@ -83,12 +94,7 @@ TEST(SurfacePick, FindsTheFrontFaceAndMissesBesideTheSheet) {
 // evaluating every sample finds: on an attract piece of 1366 operations, over the whole screen
 // (the sheet, its raised and sunk relief, the velvet beside it).
 TEST(SurfacePick, SkippingWhatIntervalsProveOutsideFindsTheSamePoints) {
-  std::ifstream in(std::filesystem::path(EMBOSS_SOURCE_DIR) / "firmware-app" / "pieces" / "1-rosette.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  auto scene = parseScene(text.str(), "1-rosette.json", ".");
-  ASSERT_TRUE(scene.ok()) << scene.error();
-  auto model = scene->makeModel();
+  auto model = attractPieceModel("1-rosette.json");
   ASSERT_TRUE(model.ok()) << model.error();
   ASSERT_GT(model->activeCount(), 1000u);
   const Camera cam(benchCamera(model->workpiece().bounds(), kW, kH), kW, kH);
@@ -115,12 +121,7 @@ TEST(SurfacePick, SkippingWhatIntervalsProveOutsideFindsTheSamePoints) {
 // at every sample (written out here), on an attract piece at an angle: an oblique ray's footprint
 // crosses many supports that its points do not.
 TEST(SurfacePick, OperationsNearEachSampleFindTheWholeModelsPoints) {
-  std::ifstream in(std::filesystem::path(EMBOSS_SOURCE_DIR) / "firmware-app" / "pieces" / "2-shell.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  auto scene = parseScene(text.str(), "2-shell.json", ".");
-  ASSERT_TRUE(scene.ok()) << scene.error();
-  auto model = scene->makeModel();
+  auto model = attractPieceModel("2-shell.json");
   ASSERT_TRUE(model.ok()) << model.error();
   const Camera cam(benchCamera(model->workpiece().bounds(), kW, kH), kW, kH);
   // The march of pickSurface(), every sample evaluated over every operation.
