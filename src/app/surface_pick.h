@@ -19,9 +19,9 @@ struct ScreenBox {
 // The first point where the ray through screen position (sx, sy) (pixels) enters the model
 // (f crosses from < 0 to >= 0), found by marching in steps of a fraction of the sheet's thickness
 // and bisecting; nullopt when the ray misses. Each evaluation reads only the operations whose
-// support holds its point (or meets its box), and stretches of the march that interval arithmetic proves to lie
-// outside the model are skipped (`skipOutside`; off, every sample is evaluated: the same point,
-// some fifteen times slower on an attract piece). Thread-safe (const).
+// support holds its point (or meets its box), and stretches of the march that interval arithmetic
+// proves to lie outside the model are skipped (`skipOutside`; off, every sample is evaluated: the
+// same point, some fifteen times slower on an attract piece). Thread-safe (const).
 std::optional<glm::dvec3> pickSurface(const Model& model, const Camera& camera, double sx, double sy,
                                       bool skipOutside = true);
 
