@@ -121,13 +121,6 @@ Rect grownWithin(const Rect& r, int n, int w, int h) {
 
 }  // namespace
 
-glm::dvec3 Renderer::sample(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                            std::vector<std::uint32_t>& scratch, double* kept, bool reuse) const {
-  glm::vec3 n;
-  if (const auto c = shadeRay(sx, sy, field, reach, st, scratch, n, kept, reuse)) return *c;
-  return backdrop(static_cast<int>(std::floor(sx)), static_cast<int>(std::floor(sy)), camera_->width(), camera_->height());
-}
-
 bool Renderer::missesSurely(double sx, double sy, bool field, const Rect& reach) const {
   return sx < reach.x || sy < reach.y || sx > reach.x + reach.w || sy > reach.y + reach.h ||
          (field && !outlineMask_.empty() && outlineMaskMisses(sx, sy));
@@ -156,28 +149,19 @@ std::optional<Renderer::Hit> Renderer::findHit(double sx, double sy, bool field,
   return hit;
 }
 
-std::optional<glm::dvec3> Renderer::shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                                             std::vector<std::uint32_t>& scratch, glm::vec3& normalOut, double* kept,
-                                             bool reuse) const {
-  normalOut = glm::vec3(0.0f);
-  const std::optional<Hit> hit = findHit(sx, sy, field, reach, st, scratch, kept, reuse);
-  if (!hit) return std::nullopt;
-  normalOut = glm::vec3(hit->n);
-  const double cavity = field ? cavityOfDepth(field_.cavityDepth(hit->p.x, hit->p.y)) : 0.0;
+Patina Renderer::patinaAt(double x, double y, std::vector<std::uint32_t>& scratch) const {
+  // The strokes of each tinge build up: 1 - prod(1 - amount), in any order.
   Patina patina{};
-  if (hasPatina_) {
-    // The strokes of each tinge build up: 1 - prod(1 - amount), in any order.
-    std::array<double, 5> bare{1.0, 1.0, 1.0, 1.0, 1.0};
-    const size_t active = model_->activeCount();
-    for (std::uint32_t j : grid_.at(hit->p.x, hit->p.y, scratch)) {
-      if (j >= active) continue;
-      const PreparedOp& op = model_->operations()[j];
-      if (!op.op().isPatina()) continue;
-      bare[static_cast<size_t>(op.op().tinge)] *= 1.0 - op.patinaAt(hit->p.x, hit->p.y);
-    }
-    for (size_t t = 1; t < bare.size(); ++t) patina.amount[t] = 1.0 - bare[t];
+  std::array<double, 5> bare{1.0, 1.0, 1.0, 1.0, 1.0};
+  const size_t active = model_->activeCount();
+  for (std::uint32_t j : grid_.at(x, y, scratch)) {
+    if (j >= active) continue;
+    const PreparedOp& op = model_->operations()[j];
+    if (!op.op().isPatina()) continue;
+    bare[static_cast<size_t>(op.op().tinge)] *= 1.0 - op.patinaAt(x, y);
   }
-  return shadeMetal(shading_, hit->p, hit->n, hit->dir, cavity, hasPatina_ ? &patina : nullptr);
+  for (size_t t = 1; t < bare.size(); ++t) patina.amount[t] = 1.0 - bare[t];
+  return patina;
 }
 
 bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, const std::atomic_bool* cancel) {
@@ -272,9 +256,9 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
       std::fill(kept + static_cast<size_t>(band.y) * w, kept + static_cast<size_t>(band.y + band.h) * w, nan);
     });
   }
-  // Both passes shade their hits a batch at a time in SIMD lanes (the same bits as one at a time:
-  // shadeMetal(const ShadingParams&, ShadeBatch&)), or one at a time under a patina.
-  const bool lanes = !hasPatina_;
+  // Both passes shade their hits a batch at a time: found, their normals and their cavities in
+  // SIMD lanes, then the metal in lanes too (the same bits as one at a time:
+  // shadeMetal(const ShadingParams&, ShadeBatch&)), or under a patina one hit at a time.
   // The field tracer's rays found a row (or a row's edge samples) at a time, their walks in SIMD
   // lanes (findFieldHits()).
   const bool inLanes = field && walksInLanes();
@@ -302,8 +286,17 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     } else {
       std::fill_n(batch.cavity, batch.n, 0.0);
     }
-    shadeMetal(shading_, batch);
-    for (int j = 0; j < batch.n; ++j) colourOf(j, glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
+    if (hasPatina_) {
+      for (int j = 0; j < batch.n; ++j) {
+        const Patina patina = patinaAt(batch.px[j], batch.py[j], scratch);
+        colourOf(j, shadeMetal(shading_, glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]),
+                               glm::dvec3(batch.nx[j], batch.ny[j], batch.nz[j]),
+                               glm::dvec3(batch.vx[j], batch.vy[j], batch.vz[j]), batch.cavity[j], &patina));
+      }
+    } else {
+      shadeMetal(shading_, batch);
+      for (int j = 0; j < batch.n; ++j) colourOf(j, glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
+    }
     batch.n = 0;
   };
   // A hit into the batch (its normal too when the exact tracer found it).
@@ -315,14 +308,6 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     return j;
   };
   const bool traced = pass(ringSpans, &RenderStats::traceSeconds, [&](int y, int x0, int x1, RenderStats& st, std::vector<std::uint32_t>& scratch) {
-    if (!lanes) {
-      for (int x = x0; x < x1; ++x) {
-        const size_t i = at(x, y);
-        double* const k = kept ? kept + static_cast<size_t>(y) * w + x : nullptr;
-        if (const auto c = shadeRay(x + 0.5, y + 0.5, field, reach, st, scratch, normal[i], k, reuse)) centre[i] = glm::vec3(*c), hits[i] = 1;
-      }
-      return;
-    }
     thread_local ShadeBatch batch;
     thread_local std::array<size_t, ShadeBatch::kCapacity> slots;
     const auto flush = [&] {
@@ -486,14 +471,6 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
         continue;
       }
       ++st.edgePixels;
-      if (!lanes) {
-        glm::dvec3 sum = c;
-        for (int k = 0; k < 2; ++k)
-          sum += sample(x + 0.5 + kEdgeSamples[k][0], y + 0.5 + kEdgeSamples[k][1], field, reach, st, scratch,
-                        sampleSlot(x, y, k), reuse);
-        put(x, sum / 3.0);
-        continue;
-      }
       const int e = static_cast<int>(edges.size());
       edges.push_back(EdgePixel{x, y, c, {}});
       for (int k = 0; k < 2; ++k) {

@@ -350,14 +350,8 @@ class Renderer {
   // a plain walk step (no window, no set operation's support, the slope bound known); `window`
   // gets the next window's first point, `end` the point where the lane is to stop.
   bool walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& end) const;
-  // The linear colour of the ray through (sx, sy) where it hits (normal gets the hit's unit
-  // normal), nothing where it misses (normal gets zero): findHit() shaded.
-  std::optional<glm::dvec3> shadeRay(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                                     std::vector<std::uint32_t>& scratch, glm::vec3& normal, double* kept = nullptr,
-                                     bool reuse = false) const;
-  // The same, the backdrop where it misses.
-  glm::dvec3 sample(double sx, double sy, bool field, const Rect& reach, RenderStats& st,
-                    std::vector<std::uint32_t>& scratch, double* kept = nullptr, bool reuse = false) const;
+  // The patina's tinges at (x, y) on the sheet: each tinge's strokes there built up.
+  Patina patinaAt(double x, double y, std::vector<std::uint32_t>& scratch) const;
   // dirtySpans() before the anti-aliasing's one pixel.
   PixelSpans dirtySpansOfRays(const Model& model, size_t index) const;
   template <class T>

@@ -245,7 +245,7 @@ void Renderer::updateOutlineMask() {
   const int w = camera_->width(), h = camera_->height();
   maskTilesX_ = (w + kMaskTile - 1) / kMaskTile, maskTilesY_ = (h + kMaskTile - 1) / kMaskTile;
   outlineMask_.assign(static_cast<size_t>(maskTilesX_) * maskTilesY_, 0);
-  // A ray is tested where its image point lies (shadeRay: up to the rectangle's far edge
+  // A ray is tested where its image point lies (findHit(): up to the rectangle's far edge
   // included); a tile is marked when the rectangle reaches into it.
   auto mark = [&](const Box3& b) {
     const Rect r = projectBox(b);

@@ -73,11 +73,14 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     // one window from the first box to the last, searched on the cells' ends (below). Whether a
     // ray is dense and its window are functions of the ray and the model alone (every set
     // operation's box, whatever the clip), so a dirty update finds the hit a full render finds.
-    // (Fewer set operations than that in the model: no ray is dense, and none is clipped to them.)
+    // A box the ray crosses lies in the clip box, so its support overlaps the ray's reach: the
+    // operations listed above are all the ray can cross. (Fewer of them than that: the ray is not
+    // dense, and none is clipped to them.)
     int crossed = 0;
     double denseA = 1e300, denseB = -1e300;
-    if (setOps_.size() >= static_cast<size_t>(kDenseSetOps))
-      for (const SetOp& s : setOps_) {
+    if (rc.setOpCount >= kDenseSetOps)
+      for (int k = 0; k < rc.setOpCount; ++k) {
+        const SetOp& s = *rc.setOps[k];
         double ta, tb;
         if (!clipRay(ray, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}, ta, tb)) continue;
         ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);

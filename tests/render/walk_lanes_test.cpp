@@ -113,6 +113,34 @@ TEST(WalkLanes, SetOperationsGiveTheSameBytesAsEveryWalkAlone) {
   expectPiece(opt, 120, 43, 4, "plate with set operations");
 }
 
+// Under a patina the rays are still found in lanes (only the metal is shaded a hit at a time): a
+// plate and a disc with patina strokes over their reliefs, one of them with set operations.
+TEST(WalkLanes, APatinasPieceGivesTheSameBytesAsEveryWalkAlone) {
+  for (const bool disc : {false, true}) {
+    PieceOptions opt;
+    if (disc) opt.shape = PieceShape::Disc, opt.width = opt.height = 90;
+    else opt.width = 80, opt.height = 60;
+    opt.toolScale = 1.5;
+    const GeneratedPiece piece = generatePiece(150, disc ? 45 : 44, opt);
+    auto model = piece.makeModel();
+    ASSERT_TRUE(model.ok()) << model.error();
+    PieceRandom rng(6);
+    for (int k = 0; k < 6; ++k) {
+      const Operation t = randomTraceSegment(rng, piece, 4.0);
+      Operation op;
+      op.kind = OpKind::Patina;
+      op.points = t.points;
+      op.tinge = 1 + k % 4;
+      op.a = rng.uniform(3.0, 8.0);
+      op.strength = rng.uniform(0.5, 1.0);
+      ASSERT_TRUE(model->add(op).ok());
+    }
+    if (!disc)
+      for (int k = 0; k < 3; ++k) ASSERT_TRUE(model->add(randomSetOperation(rng, piece, opt.toolScale)).ok());
+    expectSameWithAndWithoutLanes(*model, piece.camera, disc ? "disc under a patina" : "plate under a patina");
+  }
+}
+
 // An outline sheet (an imported vm medallion, W the slab or its column's bound where those decide
 // it): lanes stop where the outline's program is wanted, and at a bead blended on beside it.
 TEST(WalkLanes, AnOutlineSheetGivesTheSameBytesAsEveryWalkAlone) {
