@@ -390,7 +390,9 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
   std::string text = table(rows, s, cores, baseline, stealSentence(hostBefore, readHostCpuTimes()));
   if (!kioskRecording.empty()) {
     std::string error;
-    const std::string kiosk = kioskBench({kioskRecording, kioskLoops, threads, quick}, error);
+    KioskBenchOptions ko{kioskRecording, kioskLoops, threads, quick, s.width, s.height, {}};
+    if (baseline.program) ko.baselineFrame = [&] { return baseline.frame(pool); };
+    const std::string kiosk = kioskBench(ko, error);
     if (kiosk.empty()) {
       std::fprintf(stderr, "emboss bench: kiosk: %s\n", error.c_str());
       return 1;

@@ -19,6 +19,10 @@ updates=$(row "stroke-to-screen latency" | sed -nE 's/.*\| ([0-9]+) updates: mea
 if [ -z "$updates" ] || [ "$updates" -le 23 ]; then echo "FAIL latency row (updates '$updates'): $(row stroke)"; fail=1; else echo "ok   latency over $updates updates"; fi
 row "CPU while the visitor stands idle" | grep -Eq '\| [0-9.]+ % of one core \| near zero' &&
   echo "ok   idle CPU: $(row CPU | cut -d'|' -f3)" || { echo "FAIL idle row: $(row CPU)"; fail=1; }
+# The sheet the recording left, as the kiosk saved it: full frames of it against the baseline.
+row "full frame of the sheet the recording left" |
+  grep -Eq '^\| full frame of the sheet the recording left \([1-9][0-9]* operations, [0-9]+ set operations, [0-9]+ patina strokes\), 320x200 \| [0-9.]+ ms \(median of 2\), [0-9.]+x the baseline.s [0-9.]+ ms \| <= 1.5x the baseline \| (yes|\*\*no\*\*) \|$' &&
+  echo "ok   the sheet left: $(row "full frame" | cut -d'|' -f3)" || { echo "FAIL sheet row: $(row "full frame")"; fail=1; }
 row "attract mode" | grep -Eq '\| [0-9.]+ fps from its first frame on \([0-9]+ frames in [0-9.]+ s\) \| >= 30 fps' &&
   echo "ok   attract: $(row attract | cut -d'|' -f3)" || { echo "FAIL attract row: $(row attract)"; fail=1; }
 grep -q "played 2 times, a second apart, at its own pace" "$tmp/out" || { echo "FAIL the table does not say how the recording was played"; fail=1; }
