@@ -75,20 +75,26 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     // operation's box, whatever the clip), so a dirty update finds the hit a full render finds.
     // A box the ray crosses lies in the clip box, so its support overlaps the ray's reach: the
     // operations listed above are all the ray can cross. (Fewer of them than that: the ray is not
-    // dense, and none is clipped to them.)
+    // dense, and none is clipped to them twice. Else the boxes it crosses, counted, keep their
+    // stretches of the ray, in the list's order, for the windows of a ray that is not dense.)
     int crossed = 0;
     double denseA = 1e300, denseB = -1e300;
-    if (rc.setOpCount >= kDenseSetOps)
+    double crossA[kDenseSetOps], crossB[kDenseSetOps];
+    const bool counted = rc.setOpCount >= kDenseSetOps;
+    if (counted)
       for (int k = 0; k < rc.setOpCount; ++k) {
         const SetOp& s = *rc.setOps[k];
         double ta, tb;
         if (!clipRay(ray, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}, ta, tb)) continue;
+        if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb;
         ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);
       }
     if (crossed >= kDenseSetOps) {
       rc.dense = true;
       ++st.denseRays;
       rc.addWindow(floorToLong(denseA / h8) - 1, ceilToLong(denseB / h8) + 1, q1);
+    } else if (counted) {
+      for (int i = 0; i < crossed; ++i) rc.addWindow(floorToLong(crossA[i] / h8) - 1, ceilToLong(crossB[i] / h8) + 1, q1);
     } else {
       for (int k = 0; k < rc.setOpCount; ++k) {
         const SetOp& s = *rc.setOps[k];
