@@ -4,10 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "app/stroke_builder.h"
@@ -24,10 +22,7 @@ constexpr int kW = 640, kH = 400;
 
 // An attract piece's model (firmware-app/pieces/<file>).
 Result<Model> attractPieceModel(const std::string& file) {
-  std::ifstream in(std::filesystem::path(EMBOSS_SOURCE_DIR) / "firmware-app" / "pieces" / file);
-  std::stringstream text;
-  text << in.rdbuf();
-  auto scene = parseScene(text.str(), file, ".");
+  auto scene = loadScene(std::filesystem::path(EMBOSS_SOURCE_DIR) / "firmware-app" / "pieces" / file);
   if (!scene.ok()) return fail(scene.error());
   return scene->makeModel();
 }
