@@ -393,10 +393,21 @@ void HeightField::finish(const SampleRect& rIn, ThreadPool* pool) {
 
 // Scalar on purpose: four-lane vector types (GCC/Clang vector extensions) measured no faster
 // here -- the patch is 16 values and the cost is in the loads (docs/performance.md).
+// The cell of (x, y) and where in it, in the lattice's coordinates: every field on a lattice finds
+// the same (u, v) at a point inside its cells (a field's own origin would round differently).
+inline void HeightField::cellOf(double x, double y, int& i, int& j, double& u, double& v) const {
+  const double fx = (x - gx0_) * invS_, fy = (y - gy0_) * invS_;
+  int ci = static_cast<int>(fx), cj = static_cast<int>(fy);
+  ci -= fx < ci, cj -= fy < cj;  // floor()
+  i = std::clamp(ci - gi_, 0, nx_ - 2), j = std::clamp(cj - gj_, 0, ny_ - 2);
+  u = fx - (i + gi_), v = fy - (j + gj_);
+}
+
 double HeightField::value(double x, double y) const {
-  const double fx = (x - x0_) * invS_, fy = (y - y0_) * invS_;
-  const int i = std::clamp(static_cast<int>(fx), 0, nx_ - 2), j = std::clamp(static_cast<int>(fy), 0, ny_ - 2);
-  const Basis bu = basis(fx - i), bv = basis(fy - j);
+  int i, j;
+  double u, v;
+  cellOf(x, y, i, j, u, v);
+  const Basis bu = basis(u), bv = basis(v);
   const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
   const Sample* r1 = r0 + nx_;
   const double s = s_;
@@ -422,10 +433,11 @@ double HeightField::valueBilinear(double x, double y) const {
 }
 
 void HeightField::valueAndGradient(double x, double y, double& v, double& gx, double& gy) const {
-  const double fx = (x - x0_) * invS_, fy = (y - y0_) * invS_;
-  const int i = std::clamp(static_cast<int>(fx), 0, nx_ - 2), j = std::clamp(static_cast<int>(fy), 0, ny_ - 2);
-  const Basis bu = basis(fx - i), bv = basis(fy - j);
-  const Basis du = basisDerivative(fx - i), dv = basisDerivative(fy - j);
+  int i, j;
+  double cu, cv;
+  cellOf(x, y, i, j, cu, cv);
+  const Basis bu = basis(cu), bv = basis(cv);
+  const Basis du = basisDerivative(cu), dv = basisDerivative(cv);
   const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
   const Sample* r1 = r0 + nx_;
   const double s = s_;

@@ -171,6 +171,7 @@ class HeightField {
     std::vector<Node> nodes;
   };
   Sample& at(int i, int j) { return samples_[static_cast<size_t>(j) * nx_ + i]; }
+  void cellOf(double x, double y, int& i, int& j, double& u, double& v) const;
   void addTo(const PreparedOp& op, const SampleRect& r, OffsetValues* keep = nullptr);
   void updateTwist(const SampleRect& r);
   void updateLeaves(int la0, int lb0, int la1, int lb1);

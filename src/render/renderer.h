@@ -236,8 +236,13 @@ class Renderer {
     double zlo = 0.0, zhi = 0.0;  // where the operation can change f, the later offsets' shift included
     std::uint64_t id = 0;
     // The offsets after it, summed over its support: the shift that moves its tool with the
-    // sheet, kept like D (same lattice spacing, same update rules, bit-exact).
+    // sheet, kept like D (same lattice spacing, same update rules, bit-exact). Its lattice
+    // reaches a sample past the support's every side, so that a patch inside the support reads
+    // only samples whose twists are central differences: then the set operations of a run (no
+    // offset between them: the same offsets after each) hold the same bits wherever their
+    // supports meet, and a point reads the run's shift once (fieldValue()).
     std::shared_ptr<HeightField> shift;
+    std::uint32_t run = 0;  // the index in setOps_ of its run's first set operation
     // Its samples under the last offset it added, when that was the model's last operation
     // (savedId): put back when a live preview replaces that offset, as the field's are.
     std::shared_ptr<HeightField::Saved> saved;

@@ -65,10 +65,13 @@ double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderSta
     v = model_->workpiece().value(P3<double>{p.x, p.y, p.z - d});
     if (lipschitzValue) *lipschitzValue = v;
   }
+  // A run's set operations hold the same shift at p (SetOp::shift): it is read once a run.
+  std::uint32_t run = ~0u;
+  double shift = 0.0;
   for (int k = 0; k < n; ++k) {
     const SetOp& s = *rc.setOps[k];
     if (!s.support.contains(p.x, p.y)) continue;  // combine() is exactly the identity there
-    const double shift = s.shift->value(p.x, p.y);
+    if (s.run != run) run = s.run, shift = s.shift->value(p.x, p.y);
     v = model_->operations()[s.index].combine(v, P3<double>{p.x, p.y, p.z - shift});
     ++st.opsVisited;
   }
@@ -175,11 +178,17 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   // shifts: a subtraction raises f by its bump at most), which proves most cells well clear of a
   // pile of them; then with every tool where it is.
   const auto acts = [&](const SetOp& s) { return s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi; };
+  // A run's shift over the same box (both supports hold it): bounded once (SetOp::shift).
+  std::uint32_t run = ~0u;
+  Box2 shiftIn;
+  Interval shift;
   const auto withTool = [&](const SetOp& s, double hi) {
     const Box2 in{std::max(xy.x0, s.support.x0), std::max(xy.y0, s.support.y0), std::min(xy.x1, s.support.x1),
                   std::min(xy.y1, s.support.y1)};
-    const HeightField::Bound sb = s.shift->bound(in);
-    const Interval shift(sb.lo, sb.hi);
+    if (s.run != run || in.x0 != shiftIn.x0 || in.y0 != shiftIn.y0 || in.x1 != shiftIn.x1 || in.y1 != shiftIn.y1) {
+      const HeightField::Bound sb = s.shift->bound(in);
+      run = s.run, shiftIn = in, shift = Interval(sb.lo, sb.hi);
+    }
     ++st.opsVisited;
     return combineUpper(model_->operations()[s.index], hi, P3<Interval>{box.x, box.y, box.z - shift});
   };
@@ -228,11 +237,16 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
     f = Grad(columns_.halfThickness) - abs(q.z - d);  // W there
   else
     f = workpieceValue(P3<Grad>{q.x, q.y, q.z - d});
+  std::uint32_t run = ~0u;  // read once a run, as in fieldValue()
+  Grad shift;
   for (const SetOp& s : setOps_) {
     if (!s.support.contains(p.x, p.y)) continue;
-    double sv, sx, sy;
-    s.shift->valueAndGradient(p.x, p.y, sv, sx, sy);
-    const Grad shift(sv, sx, sy, 0.0);
+    if (s.run != run) {
+      double sv, sx, sy;
+      run = s.run;
+      s.shift->valueAndGradient(p.x, p.y, sv, sx, sy);
+      shift = Grad(sv, sx, sy, 0.0);
+    }
     f = model_->operations()[s.index].combine(f, P3<Grad>{q.x, q.y, q.z - shift});
     ++st.opsVisited;
   }

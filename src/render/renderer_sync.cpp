@@ -263,6 +263,9 @@ void Renderer::syncSetOps(const Model& model) {
     s.index = static_cast<std::uint32_t>(i);
     s.id = ids[i];
     s.support = op.support();
+    bool sameRun = !setOps_.empty();
+    for (size_t j = sameRun ? setOps_.back().index + 1 : i; sameRun && j < i; ++j) sameRun = !ops[j].op().isOffset();
+    s.run = sameRun ? setOps_.back().run : static_cast<std::uint32_t>(setOps_.size());
     while (reuse < old.size() && old[reuse].id != s.id) ++reuse;
     const bool keep = fieldReady_ && reuse < old.size() && old[reuse].shift && !lastSync_.rebuilt;
     if (keep) s.shift = std::move(old[reuse].shift), s.saved = std::move(old[reuse].saved), s.savedId = old[reuse].savedId;
@@ -300,7 +303,7 @@ void Renderer::syncSetOps(const Model& model) {
         }
         // Made afresh: the offsets after it, and the rows of the pending append added so far.
         HeightField& f = *s.shift;
-        f.configureOn(field_, s.support);
+        f.configureOn(field_, s.support.grown(field_.spacing()));
         f.recompute(f.all(), offsetsAfter(s.index, offsetsIn(f.domain(), scratch, s.index + 1), list));
         if (pending_.active && pending_.index > s.index) {
           const HeightField::SampleRect& r = pending_.r;

@@ -166,5 +166,89 @@ TEST(ShiftFields, FollowTheFieldToTheBitsOfAFreshBuild) {
   EXPECT_EQ(firstPixelDifference(a, b), "");
 }
 
+// A run of set operations (no offset between them) holds one shift: wherever two of their
+// supports meet, their shift fields give the same bits, which fieldValue() reads once a run. A
+// set operation after an offset (another run) does not: the offset between moves the first
+// run's tools and not its own.
+TEST(ShiftFields, ARunsSetOperationsHoldTheSameBitsWhereTheirSupportsMeet) {
+  PieceOptions opt;
+  opt.width = 48, opt.height = 36;
+  opt.halfThickness = 0.5;
+  GeneratedPiece piece = generatePiece(10, 31, opt);
+  PieceRandom rng(71);
+  const Vec2 pile{3.0, -2.0};
+  // Beads piled within 2 mm of one point, a punch under the pile between the two runs, then
+  // punches over it (the offsets after each, whose sum is the shift).
+  const auto bead = [&] {
+    Operation o = randomSetOperation(rng, piece);
+    o.tool.center.x = pile.x + rng.uniform(-2.0, 2.0), o.tool.center.y = pile.y + rng.uniform(-2.0, 2.0);
+    return o;
+  };
+  const auto punchAt = [&](double dx, double dy) {
+    Operation o;
+    o.kind = OpKind::Punch;
+    o.a = 1.8, o.p = 0.4, o.q = 1.0;
+    o.at = {pile.x + dx, pile.y + dy, 0.0};
+    return o;
+  };
+  ThreadPool pool(2);
+  Renderer live(pool);
+  Model model(piece.workpiece, piece.deformation);
+  for (const Operation& op : piece.operations) ASSERT_TRUE(model.add(op).ok());
+  live.setCamera(Camera(piece.camera, 64, 40));
+  live.sync(model);
+  const size_t first = live.setOperationCount();
+  for (int k = 0; k < 6; ++k) ASSERT_TRUE(model.add(bead()).ok());
+  ASSERT_TRUE(model.add(punchAt(1.0, 0.5)).ok());
+  for (int k = 0; k < 4; ++k) ASSERT_TRUE(model.add(bead()).ok());
+  live.sync(model);  // (the shift fields made afresh)
+  for (int k = 0; k < 5; ++k) ASSERT_TRUE(model.add(punchAt(rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0))).ok());
+  live.sync(model);  // (and following the punches)
+  ASSERT_EQ(live.setOperationCount(), first + 10);
+
+  std::vector<Box2> supports;
+  for (size_t i = 0; i < model.activeCount(); ++i)
+    if (model.operations()[i].op().isSet()) supports.push_back(model.operations()[i].support());
+  // Compares set operations a and b at points where both supports hold: the count of points whose
+  // value or gradient differ in a bit, of `n` tried.
+  const auto differing = [&](size_t a, size_t b, int n) {
+    const Box2 both{std::max(supports[a].x0, supports[b].x0), std::max(supports[a].y0, supports[b].y0),
+                    std::min(supports[a].x1, supports[b].x1), std::min(supports[a].y1, supports[b].y1)};
+    EXPECT_FALSE(both.empty());
+    int count = 0;
+    for (int k = 0; k < n; ++k) {
+      const double x = rng.uniform(both.x0, both.x1), y = rng.uniform(both.y0, both.y1);
+      double va, gxa, gya, vb, gxb, gyb;
+      live.shiftField(a)->valueAndGradient(x, y, va, gxa, gya);
+      live.shiftField(b)->valueAndGradient(x, y, vb, gxb, gyb);
+      const double pa[4] = {live.shiftField(a)->value(x, y), va, gxa, gya};
+      const double pb[4] = {live.shiftField(b)->value(x, y), vb, gxb, gyb};
+      count += std::memcmp(pa, pb, sizeof pa) != 0;
+    }
+    return count;
+  };
+  for (size_t a = first; a < first + 6; ++a)
+    for (size_t b = a + 1; b < first + 6; ++b) EXPECT_EQ(differing(a, b, 400), 0) << "the first run: " << a << ", " << b;
+  for (size_t a = first + 6; a < first + 10; ++a)
+    for (size_t b = a + 1; b < first + 10; ++b) EXPECT_EQ(differing(a, b, 400), 0) << "the second run: " << a << ", " << b;
+  // Across the punch between them: the first run's shift holds it.
+  EXPECT_GT(differing(first, first + 6, 400), 100);
+
+  // And the picture is a fresh render's after the last punch is undone and replaced (the fields
+  // put back and followed).
+  ASSERT_TRUE(model.undo());
+  ASSERT_TRUE(model.add(punchAt(-1.0, 1.0)).ok());
+  live.sync(model);
+  Image a, b;
+  live.renderFull(a);
+  Renderer fresh(pool);
+  fresh.setCamera(Camera(piece.camera, 64, 40));
+  const Model m = rebuilt(model);
+  fresh.sync(m);
+  fresh.renderFull(b);
+  EXPECT_EQ(firstDifference(live, fresh), "");
+  EXPECT_EQ(firstPixelDifference(a, b), "");
+}
+
 }  // namespace
 }  // namespace emboss
