@@ -210,7 +210,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   if (hi < -kPruneEps) return true;
   if (!anywhere && k == nSet) return false;  // the second pass would be the first
   hi = v.hi;
-  for (k = 0; k < nSet; ++k)
+  for (k = 0; k < nSet && hi < -kPruneEps; ++k)  // (no bound lowers f: past zero is the end)
     if (const SetOp& s = *rc.setOps[k]; acts(s)) hi = withTool(s, hi);
   return hi < -kPruneEps;
 }
