@@ -391,8 +391,6 @@ void HeightField::finish(const SampleRect& rIn, ThreadPool* pool) {
   }
 }
 
-// Scalar on purpose: four-lane vector types (GCC/Clang vector extensions) measured no faster
-// here -- the patch is 16 values and the cost is in the loads (docs/performance.md).
 // The cell of (x, y) and where in it, in the lattice's coordinates: every field on a lattice finds
 // the same (u, v) at a point inside its cells (a field's own origin would round differently).
 inline void HeightField::cellOf(double x, double y, int& i, int& j, double& u, double& v) const {
@@ -403,6 +401,8 @@ inline void HeightField::cellOf(double x, double y, int& i, int& j, double& u, d
   u = fx - (i + gi_), v = fy - (j + gj_);
 }
 
+// Scalar on purpose: four-lane vector types (GCC/Clang vector extensions) measured no faster
+// here -- the patch is 16 values and the cost is in the loads (docs/performance.md).
 double HeightField::value(double x, double y) const {
   int i, j;
   double u, v;
