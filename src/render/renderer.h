@@ -234,6 +234,10 @@ class Renderer {
     std::uint32_t index;
     Box2 support;
     double zlo = 0.0, zhi = 0.0;  // where the operation can change f, the later offsets' shift included
+    // Where its tool can change f along z before the shift, with a margin past rounding: at a
+    // point whose z less the shift lies outside, combine() is exactly the identity (the taper's
+    // zero beyond kSupportSpan tool sizes).
+    double toolZlo = 0.0, toolZhi = 0.0;
     std::uint64_t id = 0;
     // The offsets after it, summed over its support: the shift that moves its tool with the
     // sheet, kept like D (same lattice spacing, same update rules, bit-exact). Its lattice

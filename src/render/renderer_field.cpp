@@ -72,7 +72,9 @@ double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderSta
     const SetOp& s = *rc.setOps[k];
     if (!s.support.contains(p.x, p.y)) continue;  // combine() is exactly the identity there
     if (s.run != run) run = s.run, shift = s.shift->value(p.x, p.y);
-    v = model_->operations()[s.index].combine(v, P3<double>{p.x, p.y, p.z - shift});
+    const double z = p.z - shift;
+    if (z < s.toolZlo || z > s.toolZhi) continue;  // combine() is exactly the identity there too
+    v = model_->operations()[s.index].combine(v, P3<double>{p.x, p.y, z});
     ++st.opsVisited;
   }
   return v;
@@ -247,7 +249,9 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
       s.shift->valueAndGradient(p.x, p.y, sv, sx, sy);
       shift = Grad(sv, sx, sy, 0.0);
     }
-    f = model_->operations()[s.index].combine(f, P3<Grad>{q.x, q.y, q.z - shift});
+    const Grad z = q.z - shift;
+    if (z.v < s.toolZlo || z.v > s.toolZhi) continue;  // (as in fieldValue())
+    f = model_->operations()[s.index].combine(f, P3<Grad>{q.x, q.y, z});
     ++st.opsVisited;
   }
   glm::dvec3 n(-f.dx, -f.dy, -f.dz);

@@ -402,6 +402,8 @@ void Renderer::refreshSetOpRanges() {
     const double reach = kernels::kSupportSpan * o.tool.size();
     s.zlo = tb.z0 - reach + shift.lo;
     s.zhi = tb.z1 + reach + shift.hi;
+    const double margin = 1e-9 * (1.0 + std::max(std::abs(tb.z0), std::abs(tb.z1)) + reach);
+    s.toolZlo = tb.z0 - reach - margin, s.toolZhi = tb.z1 + reach + margin;
   }
 }
 
