@@ -22,6 +22,11 @@ struct Box2 {
     y0 = std::min(y0, o.y0), y1 = std::max(y1, o.y1);
   }
   Box2 grown(double r) const { return {x0 - r, y0 - r, x1 + r, y1 + r}; }
+  // The common part of two boxes (empty() when they do not meet).
+  Box2 intersected(const Box2& o) const {
+    return {std::max(x0, o.x0), std::max(y0, o.y0), std::min(x1, o.x1), std::min(y1, o.y1)};
+  }
+  bool operator==(const Box2&) const = default;
 };
 
 struct Box3 {

@@ -90,7 +90,7 @@ Box3 Renderer::offsetReach(const Box3& wb, const Box2& support, double grow, dou
   const Box2 s = support.grown(grow);
   HeightField::Bound d = field_.rootBound();
   const Box2 dom = field_.domain();
-  const Box2 q{std::max(s.x0, dom.x0), std::max(s.y0, dom.y0), std::min(s.x1, dom.x1), std::min(s.y1, dom.y1)};
+  const Box2 q = s.intersected(dom);
   if (!q.empty()) d = field_.leafBound(q);
   // Before and after differ by at most the peak.
   Box3 box{s.x0, s.y0, wb.z0 + d.lo - peak - cell, s.x1, s.y1, wb.z1 + d.hi + peak + cell};

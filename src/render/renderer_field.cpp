@@ -185,9 +185,8 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   Box2 shiftIn;
   Interval shift;
   const auto withTool = [&](const SetOp& s, double hi) {
-    const Box2 in{std::max(xy.x0, s.support.x0), std::max(xy.y0, s.support.y0), std::min(xy.x1, s.support.x1),
-                  std::min(xy.y1, s.support.y1)};
-    if (s.run != run || in.x0 != shiftIn.x0 || in.y0 != shiftIn.y0 || in.x1 != shiftIn.x1 || in.y1 != shiftIn.y1) {
+    const Box2 in = xy.intersected(s.support);
+    if (s.run != run || in != shiftIn) {
       const HeightField::Bound sb = s.shift->bound(in);
       run = s.run, shiftIn = in, shift = Interval(sb.lo, sb.hi);
     }

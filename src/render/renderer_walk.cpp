@@ -62,7 +62,7 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     // W(x, y, z - D) with a known Lipschitz bound for W (see lipschitzAlong()), D's slopes from
     // the field. Beyond the field's domain (the workpiece's bounds and a margin) W < 0: skipped.
     rc.lipschitz = true;
-    const Box2 r{std::max(reach.x0, dom.x0), std::max(reach.y0, dom.y0), std::min(reach.x1, dom.x1), std::min(reach.y1, dom.y1)};
+    const Box2 r = reach.intersected(dom);
     const HeightField::Bound rb = field_.bound(r);
     rc.lf = lipschitzAlong(ray.dir, rb, workpieceKind_);
     const long qa = ceilToLong(tda / h8) - 2, qb = floorToLong(tdb / h8) + 2;
@@ -310,7 +310,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
         // ray), and the whole ray's bound holds everywhere.
         const long reachQ = std::min(q1, q + static_cast<long>(std::min(-fa.l * invStepH8, 1e15)) + 1);
         const Box2 step = xyBox(pq, at(reachQ));
-        const Box2 inDomain{std::max(step.x0, dom.x0), std::max(step.y0, dom.y0), std::min(step.x1, dom.x1), std::min(step.y1, dom.y1)};
+        const Box2 inDomain = step.intersected(dom);
         const double lf = lipschitzAlong(ray.dir, field_.bound(inDomain), workpieceKind_);
         n = std::min(static_cast<long>(std::min((-fa.l - kPruneEps) / (lf * h8), 1e15)), reachQ - q - 1);
         n = std::max(n, static_cast<long>(std::min((-fa.l - kPruneEps) * invRayH8, 1e15)));

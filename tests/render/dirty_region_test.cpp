@@ -220,7 +220,9 @@ struct StrokedPlateScene {
   Model model;
   explicit StrokedPlateScene(unsigned seed) : piece(generatePiece(12, seed, opt)), model(piece.workpiece, piece.deformation) {
     for (const Operation& op : piece.operations)
-      if (!op.isSet()) EXPECT_TRUE(model.add(op).ok());
+      if (!op.isSet()) {
+        EXPECT_TRUE(model.add(op).ok());
+      }
   }
 };
 

@@ -212,8 +212,7 @@ TEST(ShiftFields, ARunsSetOperationsHoldTheSameBitsWhereTheirSupportsMeet) {
   // Compares set operations a and b at points where both supports hold: the count of points whose
   // value or gradient differ in a bit, of `n` tried.
   const auto differing = [&](size_t a, size_t b, int n) {
-    const Box2 both{std::max(supports[a].x0, supports[b].x0), std::max(supports[a].y0, supports[b].y0),
-                    std::min(supports[a].x1, supports[b].x1), std::min(supports[a].y1, supports[b].y1)};
+    const Box2 both = supports[a].intersected(supports[b]);
     EXPECT_FALSE(both.empty());
     int count = 0;
     for (int k = 0; k < n; ++k) {

@@ -135,8 +135,9 @@ TEST(WalkLanes, APatinasPieceGivesTheSameBytesAsEveryWalkAlone) {
       op.strength = rng.uniform(0.5, 1.0);
       ASSERT_TRUE(model->add(op).ok());
     }
-    if (!disc)
+    if (!disc) {
       for (int k = 0; k < 3; ++k) ASSERT_TRUE(model->add(randomSetOperation(rng, piece, opt.toolScale)).ok());
+    }
     expectSameWithAndWithoutLanes(*model, piece.camera, disc ? "disc under a patina" : "plate under a patina");
   }
 }
