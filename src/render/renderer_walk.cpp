@@ -260,7 +260,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   int shortSteps = walk.shortSteps;
   // Inside windows: the stretches whose interval tests failed (none yet: a walk comes here from its
   // start or from the lanes, which never enter a window).
-  long failedUntil[2] = {q0 - 1, q0 - 1};
+  long failedUntil[3] = {q0 - 1, q0 - 1, q0 - 1};
   // Of a step's quotients (below), the two whose divisors are fixed for the ray are products with
   // these reciprocals (Walk): a division is the slowest link of the step's chain.
   const double invStepH8 = walk.invStepH8, invRayH8 = walk.invRayH8;
@@ -327,15 +327,22 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
       shortSteps = 0;
     } else {
       // Inside a window: skip what intervals prove empty, trying long stretches first (a failed
-      // stretch is not tried again until it is passed).
+      // stretch is not tried again until it is passed): 32, 8, 2 cells, then one. A dense ray
+      // stops at two: its window is sampled at the cells' ends, so a cell's test saves one value
+      // at most, and near its tangle's surface such tests fail as often as not (the window of
+      // the visitor's sheet in docs/performance.md, "Stop 59": 9 % less time than 32, 8 and 1
+      // cells for every ray).
+      constexpr long kLevels[4] = {4 * kSpan, kSpan, 2 * kCell, kCell};
+      const int levels = rc.dense ? 3 : 4;
       bool skipped = false;
-      for (int level = 0; level < 3 && !skipped; ++level) {
-        const long len = level == 0 ? 4 * kSpan : level == 1 ? kSpan : kCell;
-        if (level < 2 && q < failedUntil[level]) continue;
+      for (int level = 0; level < levels && !skipped; ++level) {
+        const long len = kLevels[level];
+        const bool last = level == levels - 1;
+        if (!last && q < failedUntil[level]) continue;
         if (empty(q, unknown, q + len, unknown)) {
           q += len;
           skipped = true;
-        } else if (level < 2) {
+        } else if (!last) {
           failedUntil[level] = q + len;
         }
       }
