@@ -286,16 +286,18 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     } else {
       std::fill_n(batch.cavity, batch.n, 0.0);
     }
-    if (hasPatina_) {
-      for (int j = 0; j < batch.n; ++j) {
-        const Patina patina = patinaAt(batch.px[j], batch.py[j], scratch);
-        colourOf(j, shadeMetal(shading_, glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]),
-                               glm::dvec3(batch.nx[j], batch.ny[j], batch.nz[j]),
-                               glm::dvec3(batch.vx[j], batch.vy[j], batch.vz[j]), batch.cavity[j], &patina));
+    // Every hit in lanes; those under a patina one at a time again, with it (without one, the
+    // same bits as the lanes').
+    shadeMetal(shading_, batch);
+    for (int j = 0; j < batch.n; ++j) {
+      const Patina patina = hasPatina_ ? patinaAt(batch.px[j], batch.py[j], scratch) : Patina{};
+      if (!patina.any()) {
+        colourOf(j, glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
+        continue;
       }
-    } else {
-      shadeMetal(shading_, batch);
-      for (int j = 0; j < batch.n; ++j) colourOf(j, glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
+      colourOf(j, shadeMetal(shading_, glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]),
+                             glm::dvec3(batch.nx[j], batch.ny[j], batch.nz[j]),
+                             glm::dvec3(batch.vx[j], batch.vy[j], batch.vz[j]), batch.cavity[j], &patina));
     }
     batch.n = 0;
   };

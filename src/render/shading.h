@@ -29,6 +29,12 @@ ShadingParams sheetShading(std::string_view metal, std::string_view tinge, doubl
 // How much of each tinge the patina brush left at a point (index as tinges(); 0 unused), 0..1.
 struct Patina {
   std::array<double, 5> amount{};
+  // Whether any tinge is there (none: shadeMetal() gives the same bits as without a patina).
+  bool any() const {
+    for (size_t i = 1; i < amount.size(); ++i)
+      if (amount[i] > 0) return true;
+    return false;
+  }
 };
 // `patina` (optional) tints the metal like the scene's tinge, settling into the hollows.
 glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& view,

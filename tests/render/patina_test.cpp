@@ -181,6 +181,65 @@ TEST(Patina, UndoTakesItAwayExactly) {
       for (int k = 0; k < 4; ++k) ASSERT_EQ(image.pixel(x, y)[k], before.pixel(x, y)[k]) << x << "," << y;
 }
 
+// A sheet with a patina somewhere is shaded in lanes like one without, and only the hits under a
+// stroke one at a time with it: beyond the brush's reach its pixels are the bytes of the sheet
+// without the stroke.
+TEST(Patina, BeyondTheStrokeTheMetalIsTheSameBytes) {
+  auto scene = parseScene(kScene, "patina.json", ".");
+  ASSERT_TRUE(scene);
+  Scene bare = *scene;
+  bare.operations.pop_back();
+  auto with = scene->makeModel();
+  auto without = bare.makeModel();
+  ASSERT_TRUE(with && without);
+  ThreadPool pool(2);
+  const Camera camera(scene->camera, 160, 100);
+  auto picture = [&](const Model& model) {
+    Renderer r(pool);
+    r.setCamera(camera);
+    ShadingParams s;
+    s.metal = *metalByName("copper");
+    s.frontZ = model.workpiece().bounds().z1;
+    r.setShading(s);
+    r.sync(model);
+    Image image;
+    EXPECT_TRUE(r.renderFull(image));
+    return image;
+  };
+  const Image a = picture(*with), b = picture(*without);
+  Renderer r(pool);
+  r.setCamera(camera);
+  r.sync(*with);
+  int beyond = 0, under = 0, darker = 0;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 160; ++x) {
+      // The pixel's own ray and its neighbours' (an edge's extra rays) all hit beyond the brush,
+      // or the middle of the stroke.
+      double lo = 1e9, hi = -1e9;
+      bool all = true;
+      for (const auto& [dx, dy] : {std::pair{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+        std::optional<glm::dvec3> hit;
+        ASSERT_TRUE(r.pick(*with, camera, x + dx + 0.5, y + dy + 0.5, hit));
+        if (!hit) {
+          all = false;
+          break;
+        }
+        lo = std::min(lo, std::abs(hit->y)), hi = std::max(hi, std::abs(hit->y));
+      }
+      if (!all) continue;
+      if (lo > 4.5) {
+        ++beyond;
+        for (int k = 0; k < 4; ++k) ASSERT_EQ(a.pixel(x, y)[k], b.pixel(x, y)[k]) << x << "," << y;
+      } else if (hi < 2.0) {
+        ++under;
+        darker += a.pixel(x, y)[1] + 8 < b.pixel(x, y)[1];
+      }
+    }
+  EXPECT_GT(beyond, 1000);
+  EXPECT_GT(under, 500);
+  EXPECT_GT(darker, under * 3 / 4) << "the black stroke darkens the metal under it";
+}
+
 TEST(Patina, TheKioskBrushLaysOneStrokeWhenThePenLifts) {
   const ToolSpec* brush = nullptr;
   for (const auto& t : toolCatalogue())
