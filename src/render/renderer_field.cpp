@@ -240,8 +240,10 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
     f = workpieceValue(P3<Grad>{q.x, q.y, q.z - d});
   std::uint32_t run = ~0u;  // read once a run, as in fieldValue()
   Grad shift;
-  for (const SetOp& s : setOps_) {
-    if (!s.support.contains(p.x, p.y)) continue;
+  const size_t nSet = setOpsArea_.contains(p.x, p.y) ? setOps_.size() : 0;
+  for (size_t k = 0; k < nSet; ++k) {
+    if (!setOpSupports_[k].contains(p.x, p.y)) continue;
+    const SetOp& s = setOps_[k];
     if (s.run != run) {
       double sv, sx, sy;
       run = s.run;

@@ -84,7 +84,8 @@ void Renderer::sheetNormals(const double* x, const double* y, const double* z, c
     bool ok = k < inLanes && field_.contains(x[k], y[k]);
     // (An outline sheet's: where W is the slab.)
     if (ok && workpieceKind_ == 4) ok = columns_.halfThickness - std::abs(z[k] - dv[k]) <= columns_.at(x[k], y[k]).lo;
-    for (size_t i = 0; ok && i < setOps_.size(); ++i) ok = !setOps_[i].support.contains(x[k], y[k]);
+    if (ok && setOpsArea_.contains(x[k], y[k]))
+      for (size_t i = 0; ok && i < setOpSupports_.size(); ++i) ok = !setOpSupports_[i].contains(x[k], y[k]);
     done[k] = ok;
     if (ok) ++st.evaluations, ++st.fieldEvaluations;
   }

@@ -273,6 +273,8 @@ void Renderer::syncSetOps(const Model& model) {
     kept.push_back(keep);
     setOps_.push_back(std::move(s));
   }
+  setOpSupports_.clear(), setOpsArea_ = Box2{};
+  for (const SetOp& s : setOps_) setOpSupports_.push_back(s.support), setOpsArea_.extend(s.support);
   // The offsets at index `from` or after that may reach a box, ascending.
   const auto offsetsIn = [&](const Box2& box, std::vector<std::uint32_t>& scratch, std::uint32_t from) {
     std::vector<std::uint32_t> out;

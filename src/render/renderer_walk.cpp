@@ -50,8 +50,9 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   rc.windows = 0, rc.skips = 0;
   const Box2 reach = start.reach;
   rayOps.clear();
-  for (const SetOp& s : setOps_)
-    if (s.support.overlaps(reach)) rayOps.push_back(&s);
+  if (setOpsArea_.overlaps(reach))
+    for (size_t k = 0; k < setOpSupports_.size(); ++k)
+      if (setOpSupports_[k].overlaps(reach)) rayOps.push_back(&setOps_[k]);
   rc.setOps = rayOps.data();
   rc.setOpCount = static_cast<int>(rayOps.size());
   const Box2 dom = field_.domain();
