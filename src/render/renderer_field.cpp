@@ -136,11 +136,9 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     }
   }
   const int nSet = rc.setOpCount;
-  bool setOpHere = false;
-  for (int k = 0; k < nSet && !setOpHere; ++k) {
-    const SetOp& s = *rc.setOps[k];
-    setOpHere = s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi;
-  }
+  const auto acts = [&](const SetOp& s) { return s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi; };
+  bool setOpHere = false;  // (read for outline sheets alone)
+  for (int k = 0; workpieceKind_ == 4 && k < nSet && !setOpHere; ++k) setOpHere = acts(*rc.setOps[k]);
   if (workpieceKind_ == 4 && columnsOk && !anyInside && !setOpHere) return true;  // all outside
   // Every block under the box inside: W is the slab wherever the slab is below their bounds.
   const bool slabIsW = workpieceKind_ == 4 && columnsOk && !anyOutside;
@@ -179,7 +177,6 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   // Only f's upper end decides. First with the subtractions' tools anywhere (no shapes, no
   // shifts: a subtraction raises f by its bump at most), which proves most cells well clear of a
   // pile of them; then with every tool where it is.
-  const auto acts = [&](const SetOp& s) { return s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi; };
   // A run's shift over the same box (both supports hold it): bounded once (SetOp::shift).
   std::uint32_t run = ~0u;
   Box2 shiftIn;
