@@ -16,6 +16,7 @@
 #include "render/height_field.h"
 #include "render/image.h"
 #include "render/pixel_spans.h"
+#include "render/set_op_bins.h"
 #include "render/shading.h"
 #include "render/thread_pool.h"
 #include "render/walk_lanes.h"
@@ -524,6 +525,7 @@ class Renderer {
   // cache lines), and the box of them all.
   std::vector<Box2> setOpSupports_;
   Box2 setOpsArea_;
+  SetOpBins setOpBins_;                  // which of them meet a place
   Box3 fieldClip_{};                     // a box holding every surface of the field tracer's function
   SyncInfo lastSync_{};
   std::vector<FieldChange> fieldChanges_;  // during sync()

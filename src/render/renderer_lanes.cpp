@@ -85,7 +85,7 @@ void Renderer::sheetNormals(const double* x, const double* y, const double* z, c
     // (An outline sheet's: where W is the slab.)
     if (ok && workpieceKind_ == 4) ok = columns_.halfThickness - std::abs(z[k] - dv[k]) <= columns_.at(x[k], y[k]).lo;
     if (ok && setOpsArea_.contains(x[k], y[k]))
-      for (size_t i = 0; ok && i < setOpSupports_.size(); ++i) ok = !setOpSupports_[i].contains(x[k], y[k]);
+      setOpBins_.at(x[k], y[k], [&](std::uint32_t i) { ok = ok && !setOpSupports_[i].contains(x[k], y[k]); });
     done[k] = ok;
     if (ok) ++st.evaluations, ++st.fieldEvaluations;
   }

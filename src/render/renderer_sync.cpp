@@ -275,6 +275,7 @@ void Renderer::syncSetOps(const Model& model) {
   }
   setOpSupports_.clear(), setOpsArea_ = Box2{};
   for (const SetOp& s : setOps_) setOpSupports_.push_back(s.support), setOpsArea_.extend(s.support);
+  setOpBins_.build(setOpSupports_, setOpsArea_);
   // The offsets at index `from` or after that may reach a box, ascending.
   const auto offsetsIn = [&](const Box2& box, std::vector<std::uint32_t>& scratch, std::uint32_t from) {
     std::vector<std::uint32_t> out;

@@ -51,8 +51,9 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   const Box2 reach = start.reach;
   rayOps.clear();
   if (setOpsArea_.overlaps(reach))
-    for (size_t k = 0; k < setOpSupports_.size(); ++k)
+    setOpBins_.under(reach, [&](std::uint32_t k) {
       if (setOpSupports_[k].overlaps(reach)) rayOps.push_back(&setOps_[k]);
+    });
   rc.setOps = rayOps.data();
   rc.setOpCount = static_cast<int>(rayOps.size());
   const Box2 dom = field_.domain();
