@@ -223,7 +223,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
     // A single step is decided by its end alone: no interval test (it could only say what b.f
     // says). Two steps are decided by their middle: a test would save that one value when it
     // passed, and it passed a third of the time (the visitor's sheet, in windows). Until stop 60
-    // both were tested: 40 % of a bisection's tests on that sheet.
+    // both were tested: two thirds of a bisection's tests on that sheet.
     if (qb - qa == 1) {
       if (b.f < 0.0) return false;
       bq = qb, bfa = a.f, bfb = b.f;
