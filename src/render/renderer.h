@@ -521,11 +521,8 @@ class Renderer {
   Interval workpieceValue(const P3<Interval>& p) const;
   ColumnMap columns_;
   std::vector<SetOp> setOps_;            // active set operations, ascending index
-  // Their supports, side by side (a ray's set-up and a hit's normal read them all: a SetOp is two
-  // cache lines), and the box of them all.
-  std::vector<Box2> setOpSupports_;
-  Box2 setOpsArea_;
-  SetOpBins setOpBins_;                  // which of them meet a place
+  // Their supports, and which of them meet a place (a ray's set-up, a hit's normal).
+  SetOpBins setOpSupports_;
   Box3 fieldClip_{};                     // a box holding every surface of the field tracer's function
   SyncInfo lastSync_{};
   std::vector<FieldChange> fieldChanges_;  // during sync()

@@ -237,21 +237,19 @@ glm::dvec3 Renderer::fieldNormal(const glm::dvec3& p, RenderStats& st, std::vect
     f = workpieceValue(P3<Grad>{q.x, q.y, q.z - d});
   std::uint32_t run = ~0u;  // read once a run, as in fieldValue()
   Grad shift;
-  if (setOpsArea_.contains(p.x, p.y))
-    setOpBins_.at(p.x, p.y, [&](std::uint32_t k) {
-      if (!setOpSupports_[k].contains(p.x, p.y)) return;
-      const SetOp& s = setOps_[k];
-      if (s.run != run) {
-        double sv, sx, sy;
-        run = s.run;
-        s.shift->valueAndGradient(p.x, p.y, sv, sx, sy);
-        shift = Grad(sv, sx, sy, 0.0);
-      }
-      const Grad z = q.z - shift;
-      if (z.v < s.toolZlo || z.v > s.toolZhi) return;  // (as in fieldValue())
-      f = model_->operations()[s.index].combine(f, P3<Grad>{q.x, q.y, z});
-      ++st.opsVisited;
-    });
+  setOpSupports_.holding(p.x, p.y, [&](std::uint32_t k) {
+    const SetOp& s = setOps_[k];
+    if (s.run != run) {
+      double sv, sx, sy;
+      run = s.run;
+      s.shift->valueAndGradient(p.x, p.y, sv, sx, sy);
+      shift = Grad(sv, sx, sy, 0.0);
+    }
+    const Grad z = q.z - shift;
+    if (z.v < s.toolZlo || z.v > s.toolZhi) return;  // (as in fieldValue())
+    f = model_->operations()[s.index].combine(f, P3<Grad>{q.x, q.y, z});
+    ++st.opsVisited;
+  });
   glm::dvec3 n(-f.dx, -f.dy, -f.dz);
   const double len = glm::length(n);
   return len > 0 ? n / len : glm::dvec3(0, 0, 1);

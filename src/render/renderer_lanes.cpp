@@ -84,8 +84,7 @@ void Renderer::sheetNormals(const double* x, const double* y, const double* z, c
     bool ok = k < inLanes && field_.contains(x[k], y[k]);
     // (An outline sheet's: where W is the slab.)
     if (ok && workpieceKind_ == 4) ok = columns_.halfThickness - std::abs(z[k] - dv[k]) <= columns_.at(x[k], y[k]).lo;
-    if (ok && setOpsArea_.contains(x[k], y[k]))
-      setOpBins_.at(x[k], y[k], [&](std::uint32_t i) { ok = ok && !setOpSupports_[i].contains(x[k], y[k]); });
+    if (ok) setOpSupports_.holding(x[k], y[k], [&](std::uint32_t) { ok = false; });
     done[k] = ok;
     if (ok) ++st.evaluations, ++st.fieldEvaluations;
   }

@@ -273,9 +273,9 @@ void Renderer::syncSetOps(const Model& model) {
     kept.push_back(keep);
     setOps_.push_back(std::move(s));
   }
-  setOpSupports_.clear(), setOpsArea_ = Box2{};
-  for (const SetOp& s : setOps_) setOpSupports_.push_back(s.support), setOpsArea_.extend(s.support);
-  setOpBins_.build(setOpSupports_, setOpsArea_);
+  std::vector<Box2> supports;
+  for (const SetOp& s : setOps_) supports.push_back(s.support);
+  setOpSupports_.build(std::move(supports));
   // The offsets at index `from` or after that may reach a box, ascending.
   const auto offsetsIn = [&](const Box2& box, std::vector<std::uint32_t>& scratch, std::uint32_t from) {
     std::vector<std::uint32_t> out;

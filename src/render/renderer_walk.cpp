@@ -50,10 +50,7 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   rc.windows = 0, rc.skips = 0;
   const Box2 reach = start.reach;
   rayOps.clear();
-  if (setOpsArea_.overlaps(reach))
-    setOpBins_.under(reach, [&](std::uint32_t k) {
-      if (setOpSupports_[k].overlaps(reach)) rayOps.push_back(&setOps_[k]);
-    });
+  setOpSupports_.meeting(reach, [&](std::uint32_t k) { rayOps.push_back(&setOps_[k]); });
   rc.setOps = rayOps.data();
   rc.setOpCount = static_cast<int>(rayOps.size());
   const Box2 dom = field_.domain();

@@ -3,11 +3,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace emboss {
 
-void SetOpBins::build(const std::vector<Box2>& supports, const Box2& area) {
-  count_ = static_cast<std::uint32_t>(supports.size());
+void SetOpBins::build(std::vector<Box2> supportsIn) {
+  supports_ = std::move(supportsIn);
+  const std::vector<Box2>& supports = supports_;
+  area_ = Box2{};
+  for (const Box2& s : supports) area_.extend(s);
+  const Box2& area = area_;
   bits_.clear();
   words_ = 0;
   if (supports.size() < kFewest || area.empty()) return;

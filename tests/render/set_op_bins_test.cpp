@@ -1,8 +1,10 @@
-// The set operations' bins name every operation whose support meets a box or holds a point, in the
-// operations' order, and read fewer than all of them over a pile.
+// The set operations' bins name exactly the operations whose support meets a box or holds a point,
+// in the operations' order, and read fewer than all of them over a pile.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "render/set_op_bins.h"
@@ -12,7 +14,6 @@ namespace {
 
 struct Pile {
   std::vector<Box2> supports;
-  Box2 area;
 };
 
 // `n` supports of 2 to 14 mm round a 60 x 40 mm motif, some on its edges, a few of them alike.
@@ -29,23 +30,33 @@ Pile pileOf(int n, unsigned seed) {
       b = Box2{cx - hx, cy - hy, cx + hx, cy + hy};
     }
     p.supports.push_back(b);
-    p.area.extend(b);
   }
   return p;
 }
 
-// The k a bins' query names for `box`, and those whose support meets it.
+// The k the bins under `box` name (a superset), and those the exact queries name.
 std::vector<std::uint32_t> named(const SetOpBins& bins, const Box2& box) {
   std::vector<std::uint32_t> out;
   bins.under(box, [&](std::uint32_t k) { out.push_back(k); });
   return out;
 }
+std::vector<std::uint32_t> meeting(const SetOpBins& bins, const Box2& box) {
+  std::vector<std::uint32_t> out;
+  bins.meeting(box, [&](std::uint32_t k) { out.push_back(k); });
+  return out;
+}
+std::vector<std::uint32_t> holding(const SetOpBins& bins, double x, double y) {
+  std::vector<std::uint32_t> out;
+  bins.holding(x, y, [&](std::uint32_t k) { out.push_back(k); });
+  return out;
+}
 
-TEST(SetOpBins, NameEveryOperationThatMeetsABoxInOrder) {
+TEST(SetOpBins, NameTheOperationsThatMeetABoxInOrder) {
   for (int n : {3, 16, 93, 200}) {
     const Pile p = pileOf(n, 7u + static_cast<unsigned>(n));
     SetOpBins bins;
-    bins.build(p.supports, p.area);
+    bins.build(p.supports);
+    ASSERT_EQ(bins.size(), p.supports.size());
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> x(-45.0, 45.0), y(-35.0, 35.0), size(0.0, 6.0);
     size_t named_total = 0, meeting_total = 0;
@@ -59,21 +70,26 @@ TEST(SetOpBins, NameEveryOperationThatMeetsABoxInOrder) {
       }
       const std::vector<std::uint32_t> got = named(bins, box);
       for (size_t i = 1; i < got.size(); ++i) ASSERT_LT(got[i - 1], got[i]) << "n " << n << ": not ascending";
-      for (size_t k = 0; k < p.supports.size(); ++k)
+      std::vector<std::uint32_t> meets, holds;
+      for (size_t k = 0; k < p.supports.size(); ++k) {
         if (p.supports[k].overlaps(box)) {
-          ++meeting_total;
+          meets.push_back(static_cast<std::uint32_t>(k));
           ASSERT_TRUE(std::binary_search(got.begin(), got.end(), static_cast<std::uint32_t>(k)))
-              << "n " << n << ": support " << k << " meets the box and was not named";
+              << "n " << n << ": support " << k << " meets the box and its bins do not name it";
         }
+        if (p.supports[k].contains(cx, cy)) holds.push_back(static_cast<std::uint32_t>(k));
+      }
+      ASSERT_EQ(meeting(bins, box), meets) << "n " << n;
+      ASSERT_EQ(holding(bins, cx, cy), holds) << "n " << n;
+      meeting_total += meets.size();
       named_total += got.size();
-      std::vector<std::uint32_t> atPoint;
-      bins.at(cx, cy, [&](std::uint32_t k) { atPoint.push_back(k); });
-      for (size_t k = 0; k < p.supports.size(); ++k)
-        if (p.supports[k].contains(cx, cy)) {
-          ASSERT_TRUE(std::binary_search(atPoint.begin(), atPoint.end(), static_cast<std::uint32_t>(k)))
-              << "n " << n << ": support " << k << " holds the point and was not named";
-        }
     }
+    // A support's own corners: it holds them.
+    for (std::uint32_t k = 0; k < p.supports.size(); ++k)
+      for (const auto& [x, y] : {std::pair{p.supports[k].x0, p.supports[k].y0}, std::pair{p.supports[k].x1, p.supports[k].y1}}) {
+        const std::vector<std::uint32_t> h = holding(bins, x, y);
+        ASSERT_TRUE(std::binary_search(h.begin(), h.end(), k)) << "n " << n << ": support " << k << "'s corner";
+      }
     if (n < static_cast<int>(SetOpBins::kFewest)) {
       EXPECT_EQ(named_total, 3000u * static_cast<size_t>(n)) << "few operations: every one is named";
     } else {
@@ -86,13 +102,15 @@ TEST(SetOpBins, NameEveryOperationThatMeetsABoxInOrder) {
 
 TEST(SetOpBins, AnEmptyOrDegenerateAreaNamesEveryOperation) {
   SetOpBins bins;
-  bins.build({}, Box2{});
+  bins.build({});
   EXPECT_TRUE(named(bins, Box2{0, 0, 1, 1}).empty());
+  EXPECT_TRUE(meeting(bins, Box2{0, 0, 1, 1}).empty());
   // Every support the same point: a grid of one bin.
-  std::vector<Box2> same(20, Box2{2.0, 3.0, 2.0, 3.0});
-  bins.build(same, Box2{2.0, 3.0, 2.0, 3.0});
-  EXPECT_EQ(named(bins, Box2{2.0, 3.0, 2.0, 3.0}).size(), 20u);
-  EXPECT_EQ(named(bins, Box2{-5.0, -5.0, 9.0, 9.0}).size(), 20u);
+  bins.build(std::vector<Box2>(20, Box2{2.0, 3.0, 2.0, 3.0}));
+  EXPECT_EQ(meeting(bins, Box2{2.0, 3.0, 2.0, 3.0}).size(), 20u);
+  EXPECT_EQ(meeting(bins, Box2{-5.0, -5.0, 9.0, 9.0}).size(), 20u);
+  EXPECT_EQ(holding(bins, 2.0, 3.0).size(), 20u);
+  EXPECT_TRUE(holding(bins, 2.0, 3.5).empty());
 }
 
 }  // namespace
