@@ -1,7 +1,7 @@
 // The set operations' supports, and which of them meet a place: a grid of bins over the box of
 // them all, each with a bit for every operation whose support meets it. A ray's set-up and a hit's
-// normal read the bins under them, not every support (the sheet a visitor leaves holds 93 set operations, and a ray over
-// it meets about a dozen; docs/performance.md, "Stop 60").
+// normal read the bins under them, not every support (the sheet a visitor leaves holds 93 set
+// operations, and a ray over it meets about a dozen; docs/performance.md, "Stop 60").
 #pragma once
 
 #include <bit>
@@ -21,8 +21,6 @@ class SetOpBins {
   // The supports, in the set operations' order.
   void build(std::vector<Box2> supports);
   size_t size() const { return supports_.size(); }
-  const Box2& support(std::uint32_t k) const { return supports_[k]; }
-  const Box2& area() const { return area_; }  // the box of them all
 
   // Calls f(k) for each k whose support meets `box`, ascending.
   template <class F>
@@ -65,7 +63,7 @@ class SetOpBins {
   int row(double y) const;
 
   std::vector<Box2> supports_;  // side by side: a SetOp is two cache lines
-  Box2 area_;
+  Box2 area_;  // the box of them all
   int nx_ = 0, ny_ = 0, words_ = 0;
   double x0_ = 0, y0_ = 0, invX_ = 0, invY_ = 0;
   std::vector<std::uint64_t> bits_;  // bin (i, j)'s words at (j nx + i) words
