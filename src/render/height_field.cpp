@@ -418,6 +418,34 @@ double HeightField::value(double x, double y) const {
   return bv.h0 * a0 + bv.h1 * a1 + s * (bv.g0 * b0 + bv.g1 * b1);
 }
 
+HeightField::LatticePoint HeightField::latticePoint(double x, double y) const {
+  LatticePoint p;
+  p.x = x, p.y = y;
+  const double fx = (x - gx0_) * invS_, fy = (y - gy0_) * invS_;  // (as cellOf())
+  int ci = static_cast<int>(fx), cj = static_cast<int>(fy);
+  ci -= fx < ci, cj -= fy < cj;
+  p.ci = ci, p.cj = cj;
+  const Basis bu = basis(fx - ci), bv = basis(fy - cj);
+  p.bu[0] = bu.h0, p.bu[1] = bu.h1, p.bu[2] = bu.g0, p.bu[3] = bu.g1;
+  p.bv[0] = bv.h0, p.bv[1] = bv.h1, p.bv[2] = bv.g0, p.bv[3] = bv.g1;
+  return p;
+}
+
+double HeightField::value(const LatticePoint& p) const {
+  // value() finds this cell, and u = fx - ci, wherever the cell is not clamped to the lattice.
+  const int i = p.ci - gi_, j = p.cj - gj_;
+  if (i < 0 || j < 0 || i > nx_ - 2 || j > ny_ - 2) return value(p.x, p.y);
+  const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
+  const Sample* r1 = r0 + nx_;
+  const double s = s_;
+  const double* bu = p.bu;
+  const double a0 = bu[0] * r0[0].d + bu[1] * r0[1].d + s * (bu[2] * r0[0].dx + bu[3] * r0[1].dx);
+  const double a1 = bu[0] * r1[0].d + bu[1] * r1[1].d + s * (bu[2] * r1[0].dx + bu[3] * r1[1].dx);
+  const double b0 = bu[0] * r0[0].dy + bu[1] * r0[1].dy + s * (bu[2] * r0[0].dxy + bu[3] * r0[1].dxy);
+  const double b1 = bu[0] * r1[0].dy + bu[1] * r1[1].dy + s * (bu[2] * r1[0].dxy + bu[3] * r1[1].dxy);
+  return p.bv[0] * a0 + p.bv[1] * a1 + s * (p.bv[2] * b0 + p.bv[3] * b1);
+}
+
 template <class Get>
 double HeightField::bilinear(double x, double y, const Get& get) const {
   const double fx = std::clamp((x - x0_) * invS_, 0.0, nx_ - 1.0), fy = std::clamp((y - y0_) * invS_, 0.0, ny_ - 1.0);

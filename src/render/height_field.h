@@ -116,6 +116,16 @@ class HeightField {
 
   // D at (x, y) (inside domain()); with its gradient.
   double value(double x, double y) const;
+  // A point's cell on this field's lattice and the Hermite basis there, found once for every field
+  // on that lattice (this one and those configureOn() it): value(const LatticePoint&) of any of
+  // them is its value(x, y), bit for bit, without finding them again.
+  struct LatticePoint {
+    double x = 0, y = 0;
+    int ci = 0, cj = 0;  // the lattice's cell, unclamped
+    double bu[4] = {}, bv[4] = {};  // the basis along x and y: h0, h1, g0, g1
+  };
+  LatticePoint latticePoint(double x, double y) const;
+  double value(const LatticePoint& p) const;
   void valueAndGradient(double x, double y, double& v, double& gx, double& gy) const;
   // valueAndGradient() at n points at once (SIMD lanes where whole vectors of them fill; the same
   // bits).

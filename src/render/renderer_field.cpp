@@ -39,9 +39,11 @@ double Renderer::displacementAt(double x, double y) const {
 double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderStats& st,
                             std::vector<std::uint32_t>& scratch, double* lipschitzValue) const {
   ++st.evaluations;
+  // The point on the field's lattice, which the shift fields share: its cell and basis found once.
+  const HeightField::LatticePoint lp = field_.latticePoint(p.x, p.y);
   double d;
   if (field_.contains(p.x, p.y)) {
-    d = field_.value(p.x, p.y);
+    d = field_.value(lp);
     ++st.fieldEvaluations;
   } else {
     d = exactDisplacement(P3<double>{p.x, p.y, p.z}, grid_.at(p.x, p.y, scratch), st);
@@ -71,7 +73,7 @@ double Renderer::fieldValue(const RayContext& rc, const glm::dvec3& p, RenderSta
   for (int k = 0; k < n; ++k) {
     const SetOp& s = *rc.setOps[k];
     if (!s.support.contains(p.x, p.y)) continue;  // combine() is exactly the identity there
-    if (s.run != run) run = s.run, shift = s.shift->value(p.x, p.y);
+    if (s.run != run) run = s.run, shift = s.shift->value(lp);
     const double z = p.z - shift;
     if (z < s.toolZlo || z > s.toolZhi) continue;  // combine() is exactly the identity there too
     v = model_->operations()[s.index].combine(v, P3<double>{p.x, p.y, z});

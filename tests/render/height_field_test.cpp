@@ -129,6 +129,39 @@ TEST(HeightField, IncrementalUpdatesEqualAFullBuildBitForBit) {
   }
 }
 
+// A point's cell and basis found once on a lattice give every field on that lattice (its own, and
+// one configureOn() it over a part of it) the value value(x, y) gives, bit for bit: inside, on its
+// cells' edges, and beyond its samples (where the cell is clamped).
+TEST(HeightField, ALatticePointGivesEachFieldOnTheLatticeItsOwnValue) {
+  const GeneratedPiece piece = densePiece(80, 5);
+  const Model model = SyncedPiece::modelOf(piece);
+  HeightField whole, part;
+  whole.configure(Box2{-50.0, -35.0, 50.0, 35.0}, 0.125);
+  part.configureOn(whole, Box2{-12.3, -8.1, 17.9, 11.4});
+  for (size_t i = 0; i < model.activeCount(); ++i) {
+    const PreparedOp& op = model.operations()[i];
+    if (!op.op().isOffset()) continue;
+    whole.add(op), part.add(op);
+  }
+  whole.finish(whole.all()), part.finish(part.all());
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> x(-55.0, 55.0), y(-40.0, 40.0), near(-0.2, 0.2);
+  int inPart = 0, beyondPart = 0;
+  for (int k = 0; k < 20000; ++k) {
+    double px = x(rng), py = y(rng);
+    if (k % 4 == 1) px = whole.sampleX(static_cast<int>((px + 50.0) * 8.0) % whole.nx());  // on a cell's edge
+    if (k % 4 == 2) px = part.domain().x0 + near(rng), py = part.domain().y1 + near(rng);  // at part's edge
+    const HeightField::LatticePoint lp = whole.latticePoint(px, py);
+    for (const HeightField* f : {&whole, &part}) {
+      const double a = f->value(lp), b = f->value(px, py);
+      ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << (f == &part ? "part" : "whole") << " at " << px << ", " << py;
+    }
+    (part.contains(px, py) ? inPart : beyondPart) += 1;
+  }
+  EXPECT_GT(inPart, 1000);
+  EXPECT_GT(beyondPart, 1000);
+}
+
 // A bare sheet's field made without visiting its samples (finishFlat) is the field a full build
 // makes: the same samples and, for any box, the very same bounds.
 TEST(HeightField, FlatFinishEqualsAFullBuildOfABareSheet) {
