@@ -485,47 +485,52 @@ void PreparedOp::offsetRow(double y, const double* xs, int n, Grad* out) const {
 template <class T>
 T PreparedOp::combine(const T& f, const P3<T>& p) const {
   const Operation& o = op_;
+  if (!o.isSet()) return f;
   const ToolShape& tool = o.tool;
-  const T g = tool.value(p);
-  T result;
-  switch (o.kind) {
-    case OpKind::BlendUnion: result = kernels::blendUnion(f, g, o.a1, o.a2, o.a3); break;
-    case OpKind::BlendSubtract: result = kernels::blendSubtract(f, g, o.a1, o.a2, o.a3); break;
-    case OpKind::Subtract: result = kernels::subtract(f, g); break;
-    default: return f;
-  }
-  // Distance from the tool's surface (0 inside), in units of L: exact within 3 L, tapered to the
-  // untouched f at 4 L.
-  const double L = tool.size();
-  T dist2(0.0);
+  // The tool's value g (ToolShape::value(), the same operations) and the distance from its surface
+  // (0 inside), which share their terms. The distance, in units of L, first: the blend is exact
+  // within 3 L and tapered to the untouched f at 4 L, so beyond that it is not worked out.
+  T g(0.0), dist2(0.0);
   switch (tool.type) {
     case ToolShape::Type::Sphere: {
-      const T d = sqrt(sqr(p.x - tool.center.x) + sqr(p.y - tool.center.y) + sqr(p.z - tool.center.z)) - tool.r;
-      dist2 = sqr(max(d, T(0.0)));
+      const T s2 = sqr(p.x - tool.center.x) + sqr(p.y - tool.center.y) + sqr(p.z - tool.center.z);
+      g = tool.r * tool.r - s2;
+      dist2 = sqr(max(sqrt(s2) - tool.r, T(0.0)));
       break;
     }
     case ToolShape::Type::Cylinder: {
-      const T d = sqrt(segmentDistance2In3D(p, tool.center, tool.end)) - tool.r;
-      dist2 = sqr(max(d, T(0.0)));
+      const T s2 = segmentDistance2In3D(p, tool.center, tool.end);
+      g = tool.r * tool.r - s2;
+      dist2 = sqr(max(sqrt(s2) - tool.r, T(0.0)));
       break;
     }
     case ToolShape::Type::Flat: {
-      const T dx = max(abs(p.x - tool.center.x) - tool.half.x, T(0.0));
-      const T dy = max(abs(p.y - tool.center.y) - tool.half.y, T(0.0));
-      const T dz = max(abs(p.z - tool.center.z) - tool.half.z, T(0.0));
+      const T ax = abs(p.x - tool.center.x), ay = abs(p.y - tool.center.y), az = abs(p.z - tool.center.z);
+      g = min(min(tool.half.x - ax, tool.half.y - ay), tool.half.z - az);
+      const T dx = max(ax - tool.half.x, T(0.0));
+      const T dy = max(ay - tool.half.y, T(0.0));
+      const T dz = max(az - tool.half.z, T(0.0));
       dist2 = sqr(dx) + sqr(dy) + sqr(dz);
       break;
     }
   }
-  const T w = tapered(dist2, L, [](const T&) { return T(1.0); });
+  const T w = tapered(dist2, tool.size(), [](const T&) { return T(1.0); });
+  bool whole;  // w is 1: the blend as it is
   if constexpr (std::is_same_v<T, Interval>) {
-    if (w.lo >= 1.0) return result;
     if (w.hi <= 0.0) return f;
+    whole = w.lo >= 1.0;
   } else {
     const double wv = valueOf(w);
-    if (wv >= 1.0) return result;
     if (wv <= 0.0) return f;
+    whole = wv >= 1.0;
   }
+  T result;
+  switch (o.kind) {
+    case OpKind::BlendUnion: result = kernels::blendUnion(f, g, o.a1, o.a2, o.a3); break;
+    case OpKind::BlendSubtract: result = kernels::blendSubtract(f, g, o.a1, o.a2, o.a3); break;
+    default: result = kernels::subtract(f, g); break;
+  }
+  if (whole) return result;
   return f + w * (result - f);
 }
 

@@ -162,6 +162,28 @@ TEST(Equations, BlendUnionOperationNearTheToolIsExact) {
   EXPECT_EQ(at(m, 10, 0, 0.2), 0.3);
 }
 
+// A set operation's blend is whole within 3 tool sizes L of the tool, tapered to the untouched f
+// from there to 4 L (one half of the blend's change at 3.5 L), and exactly f beyond: a flat tool
+// 4 x 2 x 1 mm (L = 0.5 mm) beating the plate down, beside it at the height of its face.
+TEST(Equations, ASetOperationTapersFromThreeToFourToolSizes) {
+  Model m = plateModel(Deformation::Offset);
+  Operation op;
+  op.kind = OpKind::BlendSubtract;
+  op.tool.type = ToolShape::Type::Flat;
+  op.tool.center = {0, 0, 1.3};
+  op.tool.half = {2, 1, 0.5};
+  op.a1 = 0.135, op.a2 = 1.2, op.a3 = 1.2;
+  ASSERT_TRUE(m.add(op));
+  const double z = 0.8, f = 0.5 - z;  // the plate's front face term
+  auto blended = [&](double s) { return kernels::blendSubtract(f, -0.5 * s, 0.135, 1.2, 1.2); };  // g = -s L
+  EXPECT_NEAR(at(m, 2.0 + 0.5 * 2.9, 0, z), blended(2.9), kTol);
+  EXPECT_NEAR(at(m, 2.0 + 0.5 * 3.5, 0, z), f + 0.5 * (blended(3.5) - f), kTol);
+  EXPECT_NEAR(at(m, 2.0 + 0.5 * 3.1, 0, z), f + kernels::taper(3.1) * (blended(3.1) - f), kTol);
+  EXPECT_EQ(at(m, 2.0 + 0.5 * 4.0, 0, z), f);
+  EXPECT_EQ(at(m, 0.0, 1.0 + 0.5 * 4.5, z), f);
+  EXPECT_NEAR(at(m, 0.0, 0.0, z), kernels::blendSubtract(f, 0.0, 0.135, 1.2, 1.2), kTol);  // on the tool's face
+}
+
 TEST(Equations, SubtractCutsThePlate) {
   Model m = plateModel(Deformation::Sheet);
   Operation op;
