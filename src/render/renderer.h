@@ -36,13 +36,14 @@ struct RenderStats {
   std::uint64_t reshaded = 0;     // rays not traced again: their kept hit shaded anew
   std::uint64_t denseRays = 0;    // field-tracer rays through a tangle of set operations (kDenseSetOps)
   std::uint64_t laneRays = 0;     // field-tracer rays whose walk went into SIMD lanes (walk_lanes.h)
+  std::uint64_t setOpsLeftOut = 0;  // set operations whose support meets a ray's reach but whose box it misses
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
   double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
   RenderStats& operator+=(const RenderStats& o) {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
     fieldEvaluations += o.fieldEvaluations, edgePixels += o.edgePixels, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
-    reshaded += o.reshaded, denseRays += o.denseRays, laneRays += o.laneRays;
+    reshaded += o.reshaded, denseRays += o.denseRays, laneRays += o.laneRays, setOpsLeftOut += o.setOpsLeftOut;
     return *this;
   }
 };
@@ -61,6 +62,10 @@ struct RenderOptions {
   // Pixels outside the projection of the box that holds every surface are misses without a ray
   // (false: every pixel traced; the same picture, slower; for tests).
   bool cullOutsideClip = true;
+  // Field tracer: a ray's list of set operations holds those whose box (support and z range) it
+  // crosses or passes within a hair of (false: every one whose support meets the ray's reach; the
+  // same picture, slower; for tests).
+  bool cullRaySetOps = true;
   // Field tracer, dirty updates: a pixel whose ray's hit the change cannot move (only its shading:
   // the cavity term, a patina stroke) is shaded again at the hit kept from its last trace instead
   // of traced (false: every ray traced; the same picture, slower; for comparison).

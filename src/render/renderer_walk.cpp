@@ -49,8 +49,34 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   rc.setOps = nullptr, rc.setOpCount = 0, rc.dense = false, rc.lipschitz = false, rc.lf = 0.0;
   rc.windows = 0, rc.skips = 0;
   const Box2 reach = start.reach;
+  // The set operations the ray can meet: of those whose support meets its reach, those whose box
+  // (the support, the z range) the ray crosses or passes within a hair of (the ray's points as
+  // rounded; the z range's rounding margin, SetOp::toolZlo). No other changes f at a point of the
+  // ray, so none can change a value, or a test's bound for a stretch of the ray: leaving them out
+  // of the ray's list changes no hit (a third of those listed by support alone, on the visitor's
+  // sheet). The boxes it crosses keep their stretches of the ray, in order, for the windows below
+  // (the first kDenseSetOps; more make the ray dense).
+  int crossed = 0;
+  double denseA = 1e300, denseB = -1e300;
+  double crossA[kDenseSetOps], crossB[kDenseSetOps];
   rayOps.clear();
-  setOpSupports_.meeting(reach, [&](std::uint32_t k) { rayOps.push_back(&setOps_[k]); });
+  setOpSupports_.meeting(reach, [&](std::uint32_t k) {
+    const SetOp& s = setOps_[k];
+    const Box3 box{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi};
+    double ta, tb;
+    if (clipRay(ray, box, ta, tb)) {
+      if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb;
+      ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);
+    } else if (options_.cullRaySetOps) {
+      const double hair = 1e-6 * (1.0 + std::max({std::abs(box.x0), std::abs(box.x1), std::abs(box.y0), std::abs(box.y1),
+                                                  std::abs(box.z0), std::abs(box.z1)}));
+      if (!clipRay(ray, Box3{box.x0 - hair, box.y0 - hair, box.z0 - hair, box.x1 + hair, box.y1 + hair, box.z1 + hair}, ta, tb)) {
+        ++st.setOpsLeftOut;
+        return;
+      }
+    }
+    rayOps.push_back(&s);
+  });
   rc.setOps = rayOps.data();
   rc.setOpCount = static_cast<int>(rayOps.size());
   const Box2 dom = field_.domain();
@@ -67,40 +93,19 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     const long qa = ceilToLong(tda / h8) - 2, qb = floorToLong(tdb / h8) + 2;
     if (qa >= q0) rc.skipLo[rc.skips] = q0, rc.skipHi[rc.skips] = qa, ++rc.skips;
     if (qb <= q1) rc.skipLo[rc.skips] = qb, rc.skipHi[rc.skips] = q1, ++rc.skips;
-    // The windows where a set operation can act: the ray inside its box.
+    // The windows where a set operation can act: the ray inside its box (found above).
     // A ray through many set operations' boxes (a tangle of a blending punch's beads) is dense:
     // one window from the first box to the last, searched on the cells' ends (below). Whether a
     // ray is dense and its window are functions of the ray and the model alone (every set
     // operation's box, whatever the clip), so a dirty update finds the hit a full render finds.
     // A box the ray crosses lies in the clip box, so its support overlaps the ray's reach: the
-    // operations listed above are all the ray can cross. (Fewer of them than that: the ray is not
-    // dense, and none is clipped to them twice. Else the boxes it crosses, counted, keep their
-    // stretches of the ray, in the list's order, for the windows of a ray that is not dense.)
-    int crossed = 0;
-    double denseA = 1e300, denseB = -1e300;
-    double crossA[kDenseSetOps], crossB[kDenseSetOps];
-    const bool counted = rc.setOpCount >= kDenseSetOps;
-    if (counted)
-      for (int k = 0; k < rc.setOpCount; ++k) {
-        const SetOp& s = *rc.setOps[k];
-        double ta, tb;
-        if (!clipRay(ray, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}, ta, tb)) continue;
-        if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb;
-        ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);
-      }
+    // operations found above are all the ray can cross.
     if (crossed >= kDenseSetOps) {
       rc.dense = true;
       ++st.denseRays;
       rc.addWindow(floorToLong(denseA / h8) - 1, ceilToLong(denseB / h8) + 1, q1);
-    } else if (counted) {
-      for (int i = 0; i < crossed; ++i) rc.addWindow(floorToLong(crossA[i] / h8) - 1, ceilToLong(crossB[i] / h8) + 1, q1);
     } else {
-      for (int k = 0; k < rc.setOpCount; ++k) {
-        const SetOp& s = *rc.setOps[k];
-        double ta, tb;
-        if (!clipRay(ray, Box3{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi}, ta, tb)) continue;
-        rc.addWindow(floorToLong(ta / h8) - 1, ceilToLong(tb / h8) + 1, q1);
-      }
+      for (int i = 0; i < crossed; ++i) rc.addWindow(floorToLong(crossA[i] / h8) - 1, ceilToLong(crossB[i] / h8) + 1, q1);
     }
     // Above the sheet's front face over the ray's reach f < 0 (outside the windows): a ray from
     // above skips to where it goes under that face's highest point (the clip box also holds the

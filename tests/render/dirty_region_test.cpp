@@ -587,6 +587,55 @@ TEST(DirtyRegion, CullingOutsideTheClipBoxChangesNoPixel) {
   }
 }
 
+// A ray's list of set operations leaves out those whose support meets its reach but whose box it
+// misses: the picture is still the one the whole list gives. Beads, cuts and flat tools beating
+// the relief down, between the strokes that move them after (their shifts), seen from above, at a
+// slant, close up and low down.
+TEST(DirtyRegion, LeavingOutTheSetOperationsARayMissesChangesNoPixel) {
+  const GeneratedPiece piece = generatePiece(60, 4, PieceOptions{PieceShape::Plate, 60.0, 40.0, 0.25, Deformation::Sheet, 2.0});
+  Model model(piece.workpiece, piece.deformation);
+  PieceRandom rng(11);
+  const double d = piece.workpiece->halfThickness();
+  for (size_t k = 0; k < piece.operations.size(); ++k) {
+    ASSERT_TRUE(model.add(piece.operations[k]).ok());
+    if (k % 3 != 0) continue;
+    ASSERT_TRUE(model.add(randomSetOperation(rng, piece, 1.0)).ok());
+    Operation flat;
+    flat.kind = OpKind::BlendSubtract;
+    flat.tool.type = ToolShape::Type::Flat;
+    flat.tool.half = {3.0, 2.1, 1.0};
+    flat.tool.center = {rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.5, 3.0)};
+    flat.a1 = 0.135, flat.a2 = 1.2, flat.a3 = 1.2;
+    ASSERT_TRUE(model.add(flat).ok());
+  }
+  std::vector<CameraSpec> cameras(4);
+  cameras[0].eye = {0, 0, 150};
+  cameras[1].eye = {0, -70, 170};  // the kiosk's slant
+  cameras[2].eye = {8, -25, 30};   // close up
+  cameras[3].eye = {0, -110, 12};  // low down
+  ThreadPool pool(2);
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    Renderer culled(pool), all(pool);
+    const Camera cam(cameras[k], 120, 80);
+    for (Renderer* r : {&culled, &all}) {
+      RenderOptions o;
+      o.cullRaySetOps = r == &culled;
+      r->setOptions(o);
+      r->setCamera(cam);
+      r->setShading(shading(model));
+      r->sync(model);
+    }
+    Image a, b;
+    RenderStats sa, sb;
+    culled.renderFull(a, &sa);
+    all.renderFull(b, &sb);
+    EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
+    EXPECT_GT(sa.setOpsLeftOut, sa.rays / 8) << "camera " << k;
+    EXPECT_EQ(sb.setOpsLeftOut, 0u) << "camera " << k;
+    EXPECT_GT(sb.opsVisited, sa.opsVisited) << "camera " << k;
+  }
+}
+
 // On an outline sheet only the pixels over the column leaves the outline reaches, and over the set
 // operations' boxes, are traced: the picture is still the one every pixel's ray gives, with a bead
 // blended on beside the outline (where no column is inside), from above, at a slant and low down.
