@@ -57,25 +57,40 @@ inline P3<Interval> boxOf(const glm::dvec3& a, const glm::dvec3& b) {
           Interval(std::min(a.z, b.z), std::max(a.z, b.z))};
 }
 
-// The parameter range [t0, t1] (t0 >= 0) where the ray is inside the box (slabs, one division a
-// component).
-inline bool clipRay(const Ray& ray, const Box3& b, double& t0, double& t1) {
-  t0 = 0.0, t1 = 1e30;
-  const double lo[3] = {b.x0, b.y0, b.z0}, hi[3] = {b.x1, b.y1, b.z1};
-  for (int k = 0; k < 3; ++k) {
-    const double o = ray.origin[k], d = ray.dir[k];
-    if (std::abs(d) < 1e-15) {
-      if (o < lo[k] || o > hi[k]) return false;
-      continue;
+// The parameter range [t0, t1] (t0 >= 0) where a ray is inside a box (slabs), for one ray and
+// many boxes: the direction's reciprocals are found once.
+class RayClip {
+ public:
+  explicit RayClip(const Ray& ray) {
+    for (int k = 0; k < 3; ++k) {
+      o_[k] = ray.origin[k];
+      along_[k] = !(std::abs(ray.dir[k]) < 1e-15);
+      inv_[k] = along_[k] ? 1.0 / ray.dir[k] : 0.0;
     }
-    const double inv = 1.0 / d;
-    double ta = (lo[k] - o) * inv, tb = (hi[k] - o) * inv;
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta), t1 = std::min(t1, tb);
-    if (!(t0 < t1)) return false;
   }
-  return t0 < t1;
-}
+  bool operator()(const Box3& b, double& t0, double& t1) const {
+    t0 = 0.0, t1 = 1e30;
+    const double lo[3] = {b.x0, b.y0, b.z0}, hi[3] = {b.x1, b.y1, b.z1};
+    for (int k = 0; k < 3; ++k) {
+      if (!along_[k]) {
+        if (o_[k] < lo[k] || o_[k] > hi[k]) return false;
+        continue;
+      }
+      double ta = (lo[k] - o_[k]) * inv_[k], tb = (hi[k] - o_[k]) * inv_[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+      if (!(t0 < t1)) return false;
+    }
+    return t0 < t1;
+  }
+
+ private:
+  double o_[3], inv_[3];
+  bool along_[3];  // the ray is not parallel to the axis
+};
+
+// RayClip for one box.
+inline bool clipRay(const Ray& ray, const Box3& b, double& t0, double& t1) { return RayClip(ray)(b, t0, t1); }
 
 inline double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();

@@ -43,10 +43,11 @@ bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& en
   end = std::min(walk.q1, window);
   for (int i = 0; i < rc.skips; ++i)
     if (rc.skipLo[i] > walk.q) end = std::min(end, rc.skipLo[i]);
+  const RayClip clip(walk.ray);
   for (int k = 0; k < rc.setOpCount; ++k) {
     const Box2& s = rc.setOps[k]->support;
     double ta, tb;
-    if (!clipRay(walk.ray, Box3{s.x0, s.y0, -1e30, s.x1, s.y1, 1e30}, ta, tb)) continue;
+    if (!clip(Box3{s.x0, s.y0, -1e30, s.x1, s.y1, 1e30}, ta, tb)) continue;
     const long entry = floorToLong(ta / walk.h8) - 2;
     if (entry <= walk.q) return false;
     end = std::min(end, entry);

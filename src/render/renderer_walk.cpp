@@ -60,17 +60,18 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   double denseA = 1e300, denseB = -1e300;
   double crossA[kDenseSetOps], crossB[kDenseSetOps];
   rayOps.clear();
+  const RayClip clip(ray);
   setOpSupports_.meeting(reach, [&](std::uint32_t k) {
     const SetOp& s = setOps_[k];
     const Box3 box{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi};
     double ta, tb;
-    if (clipRay(ray, box, ta, tb)) {
+    if (clip(box, ta, tb)) {
       if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb;
       ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);
     } else if (options_.cullRaySetOps) {
       const double hair = 1e-6 * (1.0 + std::max({std::abs(box.x0), std::abs(box.x1), std::abs(box.y0), std::abs(box.y1),
                                                   std::abs(box.z0), std::abs(box.z1)}));
-      if (!clipRay(ray, Box3{box.x0 - hair, box.y0 - hair, box.z0 - hair, box.x1 + hair, box.y1 + hair, box.z1 + hair}, ta, tb)) {
+      if (!clip(Box3{box.x0 - hair, box.y0 - hair, box.z0 - hair, box.x1 + hair, box.y1 + hair, box.z1 + hair}, ta, tb)) {
         ++st.setOpsLeftOut;
         return;
       }
