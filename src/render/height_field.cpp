@@ -391,26 +391,20 @@ void HeightField::finish(const SampleRect& rIn, ThreadPool* pool) {
   }
 }
 
-// The cell of (x, y) and where in it, in the lattice's coordinates: every field on a lattice finds
-// the same (u, v) at a point inside its cells (a field's own origin would round differently).
-inline void HeightField::cellOf(double x, double y, int& i, int& j, double& u, double& v) const {
-  const double fx = (x - gx0_) * invS_, fy = (y - gy0_) * invS_;
-  int ci = static_cast<int>(fx), cj = static_cast<int>(fy);
-  ci -= fx < ci, cj -= fy < cj;  // floor()
-  i = std::clamp(ci - gi_, 0, nx_ - 2), j = std::clamp(cj - gj_, 0, ny_ - 2);
-  u = fx - (i + gi_), v = fy - (j + gj_);
+namespace {
+
+// The lattice's cell (ci, cj) of the point fx, fy cells from its origin, unclamped: floor().
+inline void latticeCell(double fx, double fy, int& ci, int& cj) {
+  ci = static_cast<int>(fx), cj = static_cast<int>(fy);
+  ci -= fx < ci, cj -= fy < cj;
 }
 
-// Scalar on purpose: four-lane vector types (GCC/Clang vector extensions) measured no faster
-// here -- the patch is 16 values and the cost is in the loads (docs/performance.md).
-double HeightField::value(double x, double y) const {
-  int i, j;
-  double u, v;
-  cellOf(x, y, i, j, u, v);
-  const Basis bu = basis(u), bv = basis(v);
-  const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
-  const Sample* r1 = r0 + nx_;
-  const double s = s_;
+// The Hermite patch of the cell whose first sample is r0 (the row above it nx on), at the place the
+// bases bu, bv were found for. Scalar on purpose: four-lane vector types (GCC/Clang vector
+// extensions) measured no faster here -- the patch is 16 values and the cost is in the loads
+// (docs/performance.md).
+inline double patchValue(const HeightField::Sample* r0, int nx, double s, const Basis& bu, const Basis& bv) {
+  const HeightField::Sample* r1 = r0 + nx;
   const double a0 = bu.h0 * r0[0].d + bu.h1 * r0[1].d + s * (bu.g0 * r0[0].dx + bu.g1 * r0[1].dx);
   const double a1 = bu.h0 * r1[0].d + bu.h1 * r1[1].d + s * (bu.g0 * r1[0].dx + bu.g1 * r1[1].dx);
   const double b0 = bu.h0 * r0[0].dy + bu.h1 * r0[1].dy + s * (bu.g0 * r0[0].dxy + bu.g1 * r0[1].dxy);
@@ -418,14 +412,31 @@ double HeightField::value(double x, double y) const {
   return bv.h0 * a0 + bv.h1 * a1 + s * (bv.g0 * b0 + bv.g1 * b1);
 }
 
+}  // namespace
+
+// The cell of (x, y) and where in it, in the lattice's coordinates: every field on a lattice finds
+// the same (u, v) at a point inside its cells (a field's own origin would round differently).
+inline void HeightField::cellOf(double x, double y, int& i, int& j, double& u, double& v) const {
+  const double fx = (x - gx0_) * invS_, fy = (y - gy0_) * invS_;
+  int ci, cj;
+  latticeCell(fx, fy, ci, cj);
+  i = std::clamp(ci - gi_, 0, nx_ - 2), j = std::clamp(cj - gj_, 0, ny_ - 2);
+  u = fx - (i + gi_), v = fy - (j + gj_);
+}
+
+double HeightField::value(double x, double y) const {
+  int i, j;
+  double u, v;
+  cellOf(x, y, i, j, u, v);
+  return patchValue(&samples_[static_cast<size_t>(j) * nx_ + i], nx_, s_, basis(u), basis(v));
+}
+
 HeightField::LatticePoint HeightField::latticePoint(double x, double y) const {
   LatticePoint p;
   p.x = x, p.y = y;
   const double fx = (x - gx0_) * invS_, fy = (y - gy0_) * invS_;  // (as cellOf())
-  int ci = static_cast<int>(fx), cj = static_cast<int>(fy);
-  ci -= fx < ci, cj -= fy < cj;
-  p.ci = ci, p.cj = cj;
-  const Basis bu = basis(fx - ci), bv = basis(fy - cj);
+  latticeCell(fx, fy, p.ci, p.cj);
+  const Basis bu = basis(fx - p.ci), bv = basis(fy - p.cj);
   p.bu[0] = bu.h0, p.bu[1] = bu.h1, p.bu[2] = bu.g0, p.bu[3] = bu.g1;
   p.bv[0] = bv.h0, p.bv[1] = bv.h1, p.bv[2] = bv.g0, p.bv[3] = bv.g1;
   return p;
@@ -435,15 +446,8 @@ double HeightField::value(const LatticePoint& p) const {
   // value() finds this cell, and u = fx - ci, wherever the cell is not clamped to the lattice.
   const int i = p.ci - gi_, j = p.cj - gj_;
   if (i < 0 || j < 0 || i > nx_ - 2 || j > ny_ - 2) return value(p.x, p.y);
-  const Sample* r0 = &samples_[static_cast<size_t>(j) * nx_ + i];
-  const Sample* r1 = r0 + nx_;
-  const double s = s_;
-  const double* bu = p.bu;
-  const double a0 = bu[0] * r0[0].d + bu[1] * r0[1].d + s * (bu[2] * r0[0].dx + bu[3] * r0[1].dx);
-  const double a1 = bu[0] * r1[0].d + bu[1] * r1[1].d + s * (bu[2] * r1[0].dx + bu[3] * r1[1].dx);
-  const double b0 = bu[0] * r0[0].dy + bu[1] * r0[1].dy + s * (bu[2] * r0[0].dxy + bu[3] * r0[1].dxy);
-  const double b1 = bu[0] * r1[0].dy + bu[1] * r1[1].dy + s * (bu[2] * r1[0].dxy + bu[3] * r1[1].dxy);
-  return p.bv[0] * a0 + p.bv[1] * a1 + s * (p.bv[2] * b0 + p.bv[3] * b1);
+  return patchValue(&samples_[static_cast<size_t>(j) * nx_ + i], nx_, s_, Basis{p.bu[0], p.bu[1], p.bu[2], p.bu[3]},
+                    Basis{p.bv[0], p.bv[1], p.bv[2], p.bv[3]});
 }
 
 template <class Get>
