@@ -70,17 +70,39 @@ T tapered(const T& t2, double L, K kernel) {
 
 }  // namespace
 
+namespace {
+
+// A tool's f_tool at p and the squared distance from its surface (0 inside), which share their
+// terms (a sphere's or a cylinder's squared distance from its centre or axis, a flat tool's
+// |p - c| along each axis): one switch for both, in combine()'s every call.
+template <class T>
+[[gnu::always_inline]] inline void toolAt(const ToolShape& t, const P3<T>& p, T& g, T& dist2) {
+  switch (t.type) {
+    case ToolShape::Type::Sphere:
+    case ToolShape::Type::Cylinder: {
+      const T s2 = t.type == ToolShape::Type::Sphere ? sqr(p.x - t.center.x) + sqr(p.y - t.center.y) + sqr(p.z - t.center.z)
+                                                     : segmentDistance2In3D(p, t.center, t.end);
+      g = t.r * t.r - s2;
+      dist2 = sqr(max(sqrt(s2) - t.r, T(0.0)));
+      return;
+    }
+    case ToolShape::Type::Flat: {
+      const T ax = abs(p.x - t.center.x), ay = abs(p.y - t.center.y), az = abs(p.z - t.center.z);
+      g = min(min(t.half.x - ax, t.half.y - ay), t.half.z - az);
+      dist2 = sqr(max(ax - t.half.x, T(0.0))) + sqr(max(ay - t.half.y, T(0.0))) + sqr(max(az - t.half.z, T(0.0)));
+      return;
+    }
+  }
+  g = T(-1.0), dist2 = T(0.0);
+}
+
+}  // namespace
+
 template <class T>
 T ToolShape::value(const P3<T>& p) const {
-  switch (type) {
-    case Type::Sphere:
-      return r * r - (sqr(p.x - center.x) + sqr(p.y - center.y) + sqr(p.z - center.z));
-    case Type::Cylinder:
-      return r * r - segmentDistance2In3D(p, center, end);
-    case Type::Flat:
-      return min(min(half.x - abs(p.x - center.x), half.y - abs(p.y - center.y)), half.z - abs(p.z - center.z));
-  }
-  return T(-1.0);
+  T g(0.0), dist2(0.0);
+  toolAt(*this, p, g, dist2);
+  return g;
 }
 
 Box3 ToolShape::bounds() const {
@@ -487,33 +509,11 @@ T PreparedOp::combine(const T& f, const P3<T>& p) const {
   const Operation& o = op_;
   if (!o.isSet()) return f;
   const ToolShape& tool = o.tool;
-  // The tool's value g (ToolShape::value(), the same operations) and the distance from its surface
-  // (0 inside), which share their terms. The distance, in units of L, first: the blend is exact
-  // within 3 L and tapered to the untouched f at 4 L, so beyond that it is not worked out.
+  // The tool's value g and the distance from its surface (toolAt()). The distance, in units of L,
+  // decides first: the blend is exact within 3 L and tapered to the untouched f at 4 L, so beyond
+  // that it is not worked out.
   T g(0.0), dist2(0.0);
-  switch (tool.type) {
-    case ToolShape::Type::Sphere: {
-      const T s2 = sqr(p.x - tool.center.x) + sqr(p.y - tool.center.y) + sqr(p.z - tool.center.z);
-      g = tool.r * tool.r - s2;
-      dist2 = sqr(max(sqrt(s2) - tool.r, T(0.0)));
-      break;
-    }
-    case ToolShape::Type::Cylinder: {
-      const T s2 = segmentDistance2In3D(p, tool.center, tool.end);
-      g = tool.r * tool.r - s2;
-      dist2 = sqr(max(sqrt(s2) - tool.r, T(0.0)));
-      break;
-    }
-    case ToolShape::Type::Flat: {
-      const T ax = abs(p.x - tool.center.x), ay = abs(p.y - tool.center.y), az = abs(p.z - tool.center.z);
-      g = min(min(tool.half.x - ax, tool.half.y - ay), tool.half.z - az);
-      const T dx = max(ax - tool.half.x, T(0.0));
-      const T dy = max(ay - tool.half.y, T(0.0));
-      const T dz = max(az - tool.half.z, T(0.0));
-      dist2 = sqr(dx) + sqr(dy) + sqr(dz);
-      break;
-    }
-  }
+  toolAt(tool, p, g, dist2);
   const T w = tapered(dist2, tool.size(), [](const T&) { return T(1.0); });
   bool whole;  // w is 1: the blend as it is
   if constexpr (std::is_same_v<T, Interval>) {
