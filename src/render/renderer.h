@@ -244,6 +244,10 @@ class Renderer {
     // point whose z less the shift lies outside, combine() is exactly the identity (the taper's
     // zero beyond kSupportSpan tool sizes).
     double toolZlo = 0.0, toolZhi = 0.0;
+    // How far past its box (support, zlo..zhi) a ray's list still keeps it (beginWalkFrom()): a
+    // millionth of the box's largest coordinate, past the rounding of the ray's points and of the
+    // z range's margin.
+    double hair = 0.0;
     std::uint64_t id = 0;
     // The offsets after it, summed over its support: the shift that moves its tool with the
     // sheet, kept like D (same lattice spacing, same update rules, bit-exact). Its lattice

@@ -407,6 +407,8 @@ void Renderer::refreshSetOpRanges() {
     s.zhi = tb.z1 + reach + shift.hi;
     const double margin = 1e-9 * (1.0 + std::max(std::abs(tb.z0), std::abs(tb.z1)) + reach);
     s.toolZlo = tb.z0 - reach - margin, s.toolZhi = tb.z1 + reach + margin;
+    s.hair = 1e-6 * (1.0 + std::max({std::abs(s.support.x0), std::abs(s.support.x1), std::abs(s.support.y0),
+                                     std::abs(s.support.y1), std::abs(s.zlo), std::abs(s.zhi)}));
   }
 }
 

@@ -50,12 +50,12 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   rc.windows = 0, rc.skips = 0;
   const Box2 reach = start.reach;
   // The set operations the ray can meet: of those whose support meets its reach, those whose box
-  // (the support, the z range) the ray crosses or passes within a hair of (the ray's points as
-  // rounded; the z range's rounding margin, SetOp::toolZlo). No other changes f at a point of the
-  // ray, so none can change a value, or a test's bound for a stretch of the ray: leaving them out
-  // of the ray's list changes no hit (a third of those listed by support alone, on the visitor's
-  // sheet). The boxes it crosses keep their stretches of the ray, in order, for the windows below
-  // (the first kDenseSetOps; more make the ray dense).
+  // (the support, the z range) the ray crosses or passes within a hair of (SetOp::hair: the ray's
+  // points as rounded; the z range's rounding margin, SetOp::toolZlo). No other changes f at a
+  // point of the ray, so none can change a value, or a test's bound for a stretch of the ray:
+  // leaving them out of the ray's list changes no hit (a third of those listed by support alone,
+  // on the visitor's sheet). The boxes it crosses keep their stretches of the ray, in order, for
+  // the windows below (the first kDenseSetOps; more make the ray dense).
   int crossed = 0;
   double denseA = 1e300, denseB = -1e300;
   double crossA[kDenseSetOps], crossB[kDenseSetOps];
@@ -69,9 +69,8 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
       if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb;
       ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);
     } else if (options_.cullRaySetOps) {
-      const double hair = 1e-6 * (1.0 + std::max({std::abs(box.x0), std::abs(box.x1), std::abs(box.y0), std::abs(box.y1),
-                                                  std::abs(box.z0), std::abs(box.z1)}));
-      if (!clip(Box3{box.x0 - hair, box.y0 - hair, box.z0 - hair, box.x1 + hair, box.y1 + hair, box.z1 + hair}, ta, tb)) {
+      const double h = s.hair;
+      if (!clip(Box3{box.x0 - h, box.y0 - h, box.z0 - h, box.x1 + h, box.y1 + h, box.z1 + h}, ta, tb)) {
         ++st.setOpsLeftOut;
         return;
       }
