@@ -77,8 +77,11 @@ size_t OpGrid::sync(const Model& model) {
   size_t k = 0;
   while (k < ids_.size() && k < ids.size() && ids_[k] == ids[k]) ++k;
   if (k == 0 && !ids_.empty()) {
-    // Nothing is kept (a new sheet, a new visitor, the next attract piece): new empty lists at once.
+    // Nothing is kept (a new sheet, a new visitor, the next attract piece): new empty lists at
+    // once, and the id and support lists' storage given back too.
     newCells(cells_.size());
+    std::vector<std::uint64_t>().swap(ids_);
+    std::vector<Box2>().swap(supports_);
   } else {
     for (size_t i = ids_.size(); i-- > k;) remove(static_cast<std::uint32_t>(i), supports_[i]);
   }
@@ -86,10 +89,13 @@ size_t OpGrid::sync(const Model& model) {
   supports_.resize(k);
   size_t inserted = 0;
   for (size_t i = k; i < ops.size(); ++i) {
-    insert(static_cast<std::uint32_t>(i), ops[i].support());
+    // One the filter leaves out is kept with an empty support: in no cell, never removed from one.
+    const bool kept = !keep_ || keep_(ops[i].op());
+    const Box2 support = kept ? ops[i].support() : Box2{};
+    insert(static_cast<std::uint32_t>(i), support);
     ids_.push_back(ids[i]);
-    supports_.push_back(ops[i].support());
-    ++inserted;
+    supports_.push_back(support);
+    if (kept) ++inserted;
   }
   activeCount_ = model.activeCount();
   return inserted;

@@ -18,13 +18,17 @@ namespace emboss {
 // are const and may run concurrently.
 class OpGrid {
  public:
+  // Which operations a grid lists (all when none is given): a grid of one kind, the patina strokes
+  // say, answers a lookup without the others that share its cells.
+  using Filter = bool (*)(const Operation&);
   // cellSize <= 0 picks one from the workpiece size (about 256 cells across the longer side).
-  explicit OpGrid(double cellSize = 0.0) : requestedCell_(cellSize) {}
+  explicit OpGrid(double cellSize = 0.0, Filter keep = nullptr) : requestedCell_(cellSize), keep_(keep) {}
 
-  // Brings the grid up to date with the model. Returns the number of operations (re)inserted.
+  // Brings the grid up to date with the model. Returns the number of operations (re)inserted (of
+  // those the filter keeps).
   size_t sync(const Model& model);
   // The operations that may affect (x, y): ascending, active only. Exact superset of those whose
-  // support contains the point.
+  // support contains the point (of those the filter keeps; no other).
   std::span<const std::uint32_t> at(double x, double y, std::vector<std::uint32_t>& scratch) const;
   // The operations whose support may meet the box, ascending, active only, without duplicates;
   // only those at index `from` or after (the rest of a pile left out before the sort).
@@ -50,6 +54,7 @@ class OpGrid {
   bool cellRange(const Box2& b, int& cx0, int& cy0, int& cx1, int& cy1) const;
 
   double requestedCell_;
+  Filter keep_;
   double minCell_ = 0.0;
   double cell_ = 1.0;
   double x0_ = 0, y0_ = 0;

@@ -347,6 +347,12 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
     case OpKind::Patina: {
       for (const auto& pt : op_.points) support_.extend(pt.x, pt.y);
       support_ = support_.grown(op_.a);  // the brush leaves nothing beyond its radius
+      // The path's segments kPatinaChunk at a time: the box of their ends (patinaAt()).
+      for (size_t i = 1; i < op_.points.size(); i += kPatinaChunk) {
+        Box2 b;
+        for (size_t k = i - 1; k < std::min(i + kPatinaChunk, op_.points.size()); ++k) b.extend(op_.points[k].x, op_.points[k].y);
+        patinaChunks_.push_back(b);
+      }
       maxSlope_ = 0.0;  // moves nothing
       break;
     }
@@ -618,11 +624,19 @@ double PreparedOp::patinaAt(double x, double y) const {
   if (p.size() == 1) {
     d2 = sqr(x - p[0].x) + sqr(y - p[0].y);
   } else {
-    for (size_t i = 1; i < p.size(); ++i) {
-      const Vec2 &s = p[i - 1], &e = p[i];
-      if (x < std::min(s.x, e.x) - a || x > std::max(s.x, e.x) + a || y < std::min(s.y, e.y) - a || y > std::max(s.y, e.y) + a)
-        continue;
-      d2 = std::min(d2, kernels::segmentDistance2(x, y, s.x, s.y, e.x, e.y));
+    // A chunk of segments whose box grown by a does not hold the point is passed whole: each of
+    // its segments' boxes grown by a lies inside that (rounding keeps the order of x0 - a), so
+    // each segment would be passed.
+    for (size_t c = 0; c < patinaChunks_.size(); ++c) {
+      const Box2& b = patinaChunks_[c];
+      if (x < b.x0 - a || x > b.x1 + a || y < b.y0 - a || y > b.y1 + a) continue;
+      const size_t i0 = 1 + c * kPatinaChunk, i1 = std::min(i0 + kPatinaChunk, p.size());
+      for (size_t i = i0; i < i1; ++i) {
+        const Vec2 &s = p[i - 1], &e = p[i];
+        if (x < std::min(s.x, e.x) - a || x > std::max(s.x, e.x) + a || y < std::min(s.y, e.y) - a || y > std::max(s.y, e.y) + a)
+          continue;
+        d2 = std::min(d2, kernels::segmentDistance2(x, y, s.x, s.y, e.x, e.y));
+      }
     }
   }
   const double u = d2 / reach2;

@@ -166,6 +166,9 @@ class PreparedOp {
   std::vector<Vec3> pressPoints_;
   double maxSlope_ = 0.0;
   double length_ = 0.0;
+  // Patina: the boxes of its path's segments kPatinaChunk at a time (the points' box, not grown).
+  static constexpr size_t kPatinaChunk = 8;
+  std::vector<Box2> patinaChunks_;
 };
 
 // The physical ranges of an operation's numbers, checked by validate(). Lengths in mm: a sheet and

@@ -154,10 +154,9 @@ Patina Renderer::patinaAt(double x, double y, std::vector<std::uint32_t>& scratc
   Patina patina{};
   std::array<double, 5> bare{1.0, 1.0, 1.0, 1.0, 1.0};
   const size_t active = model_->activeCount();
-  for (std::uint32_t j : grid_.at(x, y, scratch)) {
+  for (std::uint32_t j : patinaGrid_.at(x, y, scratch)) {
     if (j >= active) continue;
     const PreparedOp& op = model_->operations()[j];
-    if (!op.op().isPatina()) continue;
     bare[static_cast<size_t>(op.op().tinge)] *= 1.0 - op.patinaAt(x, y);
   }
   for (size_t t = 1; t < bare.size(); ++t) patina.amount[t] = 1.0 - bare[t];

@@ -401,6 +401,8 @@ class Renderer {
   // Its workpiece then, held (so that another model at the same address is never taken for it).
   std::shared_ptr<const Workpiece> syncedWorkpiece_;
   OpGrid grid_;
+  // The patina strokes alone (a hit's colour looks them up), in cells as wide as grid_'s.
+  OpGrid patinaGrid_{0.0, [](const Operation& o) { return o.isPatina(); }};
   std::optional<Camera> camera_;
   ShadingParams shading_{};
   RenderOptions options_{};

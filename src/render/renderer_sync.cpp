@@ -25,6 +25,8 @@ void Renderer::sync(const Model& model) {
   // workpiece (docs/performance.md, "Stop 53").
   grid_.setMinCellSize(model.deformation() == Deformation::Sheet ? kSheetGridCell : 0.0);
   grid_.sync(model);
+  patinaGrid_.setMinCellSize(model.deformation() == Deformation::Sheet ? kSheetGridCell : 0.0);
+  patinaGrid_.sync(model);
   bounds_ = model.bounds();
   // The step: a quarter of the sheet's thickness, at most 0.25 mm: a sheet can never slip between
   // two samples, and the thin-feature splits go down to h / 16. Depends on the workpiece only.
@@ -52,7 +54,7 @@ void Renderer::sync(const Model& model) {
 }
 
 size_t Renderer::memoryBytes() const {
-  size_t n = field_.memoryBytes() + grid_.memoryBytes();
+  size_t n = field_.memoryBytes() + grid_.memoryBytes() + patinaGrid_.memoryBytes();
   if (workpieceKind_ == 4) n += columns_.memoryBytes() + outlineMask_.size();
   n += saved_.samples.samples.capacity() * sizeof(HeightField::Sample);
   for (const SetOp& s : setOps_)

@@ -98,7 +98,7 @@ TEST(FrameComposer, ReleaseGivesBackWhatAClearedModelHeld) {
   fc.release(bench);
   // What is left: two blank sheets' fields and indexes.
   EXPECT_LT(fc.memoryBytes(), both - (worked - blank) + 4096);
-  EXPECT_LE(fc.memoryBytes(), 2 * blank + 4096);  // the index keeps its id and support lists' capacity
+  EXPECT_LE(fc.memoryBytes(), 2 * blank + 4096);
   // The bench shown again (the next visitor) is rendered as a full render would.
   ASSERT_TRUE(bench.add(punch(0, 0)));
   fc.show(bench, home, sh, {true, false, {}}, false);

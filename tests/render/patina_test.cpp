@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -13,6 +14,7 @@
 
 #include "app/stroke_builder.h"
 #include "export/pov.h"
+#include "frep/kernels.h"
 #include "render/renderer.h"
 #include "render/shading.h"
 #include "scene/scene.h"
@@ -123,6 +125,45 @@ TEST(Patina, ALongStrokeIsTheProfileOfTheDistanceToAllItsSegments) {
   }
   EXPECT_GT(inside, 2000);   // the stroke covers a good part of its box, and not all of it
   EXPECT_LT(inside, 19000);
+}
+
+// patinaAt() passes the segments of a long stroke eight at a time when the point lies beyond their
+// box grown by the brush's radius: the same bits as testing each segment's box.
+TEST(Patina, ALongStrokesSegmentsPassedInChunksGiveTheSameBits) {
+  Operation op;
+  op.kind = OpKind::Patina;
+  op.a = 1.5;
+  op.strength = 0.9;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> step(-1.0, 1.0);
+  Vec2 at{0.0, 0.0};
+  for (int i = 0; i < 203; ++i) {  // a last chunk of two segments
+    op.points.push_back(at);
+    at.x += step(rng) + 0.3 * std::cos(i * 0.07), at.y += step(rng) + 0.3 * std::sin(i * 0.07);
+  }
+  const PreparedOp prepared(op);
+  const Box2 box = prepared.support();
+  std::uniform_real_distribution<double> px(box.x0, box.x1), py(box.y0, box.y1);
+  const double a = op.a, reach2 = a * a;
+  int inside = 0;
+  for (int k = 0; k < 20000; ++k) {
+    // Points on a segment's end now and then (the chunks' edges).
+    const Vec2 q = op.points[static_cast<size_t>(k) % op.points.size()];
+    const double x = k % 7 == 0 ? q.x : px(rng), y = k % 7 == 0 ? q.y : py(rng);
+    double d2 = reach2;
+    for (size_t i = 1; i < op.points.size(); ++i) {
+      const Vec2 &s = op.points[i - 1], &e = op.points[i];
+      if (x < std::min(s.x, e.x) - a || x > std::max(s.x, e.x) + a || y < std::min(s.y, e.y) - a || y > std::max(s.y, e.y) + a)
+        continue;
+      d2 = std::min(d2, kernels::segmentDistance2(x, y, s.x, s.y, e.x, e.y));
+    }
+    const double u = d2 / reach2;
+    const double want = u >= 1.0 ? 0.0 : op.strength * (1.0 - u * u) * (1.0 - u * u);
+    const double got = prepared.patinaAt(x, y);
+    ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0) << "at " << x << ", " << y << ": " << got << " for " << want;
+    inside += got > 0.0;
+  }
+  EXPECT_GT(inside, 3000);
 }
 
 TEST(Patina, SettlesIntoTheHollows) {
