@@ -520,7 +520,7 @@ T PreparedOp::combine(const T& f, const P3<T>& p) const {
   // that it is not worked out.
   T g(0.0), dist2(0.0);
   toolAt(tool, p, g, dist2);
-  const T w = tapered(dist2, tool.size(), [](const T&) { return T(1.0); });
+  const T w = tapered(dist2, length_, [](const T&) { return T(1.0); });  // (length_: the tool's size)
   bool whole;  // w is 1: the blend as it is
   if constexpr (std::is_same_v<T, Interval>) {
     if (w.hi <= 0.0) return f;

@@ -17,6 +17,7 @@
 #include "render/image.h"
 #include "render/pixel_spans.h"
 #include "render/set_op_bins.h"
+#include "render/set_op_bounds.h"
 #include "render/shading.h"
 #include "render/thread_pool.h"
 #include "render/walk_lanes.h"
@@ -248,6 +249,7 @@ class Renderer {
     // millionth of the box's largest coordinate, past the rounding of the ray's points and of the
     // z range's margin.
     double hair = 0.0;
+    AnywhereUpper anywhere;  // its bound wherever its tool is: the interval tests' first pass
     std::uint64_t id = 0;
     // The offsets after it, summed over its support: the shift that moves its tool with the
     // sheet, kept like D (same lattice spacing, same update rules, bit-exact). Its lattice

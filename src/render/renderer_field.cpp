@@ -198,11 +198,10 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   for (; k < nSet && hi < -kPruneEps; ++k) {
     const SetOp& s = *rc.setOps[k];
     if (!acts(s)) continue;
-    const PreparedOp& op = model_->operations()[s.index];
-    if (op.op().kind == OpKind::BlendUnion) {
+    if (s.anywhere.kind == OpKind::BlendUnion) {
       hi = withTool(s, hi);
     } else {
-      hi = combineUpperAnywhere(op, hi), anywhere = true;
+      hi = s.anywhere(hi), anywhere = true;  // combineUpperAnywhere()
       ++st.opsVisited;
     }
   }

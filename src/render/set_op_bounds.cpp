@@ -76,17 +76,6 @@ double combineUpper(const PreparedOp& prepared, double fHi, const P3<Interval>& 
   return widenHi(std::max(fHi, c));
 }
 
-double combineUpperAnywhere(const PreparedOp& prepared, double fHi) {
-  const Operation& op = prepared.op();
-  switch (op.kind) {
-    case OpKind::Subtract: return widenHi(fHi);  // min(f, -g) <= f
-    case OpKind::BlendSubtract: {
-      // f - s + bump with s >= 0, and the bump at most as big as with g = 0.
-      const double b = bumpHi(op, fHi, 0.0);
-      return widenHi(std::max(fHi, fHi + b + 1e-13 * std::abs(fHi)));
-    }
-    default: return std::numeric_limits<double>::infinity();  // a union's tool may raise f anywhere
-  }
-}
+double combineUpperAnywhere(const PreparedOp& prepared, double fHi) { return AnywhereUpper(prepared.op())(fHi); }
 
 }  // namespace emboss

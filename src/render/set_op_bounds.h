@@ -1,6 +1,10 @@
 // Bounds of the set operations (4) over a box, without interval arithmetic's dependency problem.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "frep/operation.h"
 
 namespace emboss {
@@ -22,5 +26,31 @@ double combineUpper(const PreparedOp& op, double fHi, const P3<Interval>& box);
 // The same wherever the tool is (a cheaper, looser bound, without the tool's shape or shift): a
 // subtraction raises f by its bump at most (plain subtraction not at all); +infinity for a union.
 double combineUpperAnywhere(const PreparedOp& op, double fHi);
+
+// combineUpperAnywhere() from what it reads of the operation, kept beside the renderer's set
+// operations (read for a dozen of them in every interval test of a ray through a pile): the kind and
+// the bump's constants, 1 / a2^2 a product where it was a division.
+struct AnywhereUpper {
+  OpKind kind = OpKind::BlendUnion;
+  double a1 = 0.0, invA2Squared = 0.0;
+
+  AnywhereUpper() = default;
+  explicit AnywhereUpper(const Operation& op) : kind(op.kind), a1(op.a1), invA2Squared(1.0 / (op.a2 * op.a2)) {}
+
+  double operator()(double fHi) const {
+    // The upper end of the bound, widened for rounding as every bound here is.
+    const auto widenHi = [](double v) { return v + 1e-12 + 1e-12 * std::abs(v); };
+    switch (kind) {
+      case OpKind::Subtract: return widenHi(fHi);  // min(f, -g) <= f
+      case OpKind::BlendSubtract: {
+        // f - s + bump with s >= 0, and the bump a1 / (1 + (f/a2)^2 + (g/a3)^2) at most as big as
+        // with g = 0 and f at its upper end (its lower one not known: it may be anything below).
+        const double b = a1 > 0.0 ? a1 / (1.0 + (fHi < 0.0 ? fHi * fHi : 0.0) * invA2Squared) : 0.0;
+        return widenHi(std::max(fHi, fHi + b + 1e-13 * std::abs(fHi)));
+      }
+      default: return std::numeric_limits<double>::infinity();  // a union's tool may raise f anywhere
+    }
+  }
+};
 
 }  // namespace emboss
