@@ -281,6 +281,7 @@ PreparedOp::PreparedOp(Operation op) : op_(std::move(op)) {
     pathFields_ = PathFields(segments_);
   }
   const double L = length_ = op_.characteristicLength();
+  invA2_ = 1.0 / op_.a2, invA3_ = 1.0 / op_.a3;  // (the blends'; a plain subtraction's unread)
   const double reach = kSupportSpan * L;
   switch (op_.kind) {
     case OpKind::Trace: {
@@ -532,8 +533,8 @@ T PreparedOp::combine(const T& f, const P3<T>& p) const {
   }
   T result;
   switch (o.kind) {
-    case OpKind::BlendUnion: result = kernels::blendUnion(f, g, o.a1, o.a2, o.a3); break;
-    case OpKind::BlendSubtract: result = kernels::blendSubtract(f, g, o.a1, o.a2, o.a3); break;
+    case OpKind::BlendUnion: result = kernels::blendUnionByInverses(f, g, o.a1, invA2_, invA3_); break;
+    case OpKind::BlendSubtract: result = kernels::blendSubtractByInverses(f, g, o.a1, invA2_, invA3_); break;
     default: result = kernels::subtract(f, g); break;
   }
   if (whole) return result;

@@ -166,6 +166,7 @@ class PreparedOp {
   std::vector<Vec3> pressPoints_;
   double maxSlope_ = 0.0;
   double length_ = 0.0;
+  double invA2_ = 0.0, invA3_ = 0.0;  // a blend's 1 / a2 and 1 / a3 (kernels::blendUnionByInverses)
   // Patina: the boxes of its path's segments kPatinaChunk at a time (the points' box, not grown).
   static constexpr size_t kPatinaChunk = 8;
   std::vector<Box2> patinaChunks_;
