@@ -88,22 +88,29 @@ TEST(Patina, ColoursAndMovesNothing) {
   EXPECT_EQ(op.patinaAt(0, 4.01), 0.0);
 }
 
+// A patina stroke of n points wandering so that it crosses itself: steps of up to `step` mm each
+// way, and `drift` mm along a heading that turns by `turn` radians a point.
+Operation wanderingStroke(std::mt19937& rng, int n, double a, double strength, double step, double drift, double turn) {
+  Operation op;
+  op.kind = OpKind::Patina;
+  op.a = a;
+  op.strength = strength;
+  std::uniform_real_distribution<double> d(-step, step);
+  Vec2 at{0.0, 0.0};
+  for (int i = 0; i < n; ++i) {
+    op.points.push_back(at);
+    at.x += d(rng) + drift * std::cos(i * turn), at.y += d(rng) + drift * std::sin(i * turn);
+  }
+  return op;
+}
+
 // A long stroke: patinaAt() passes the segments whose box grown by the brush's radius does not
 // hold the point. Its value must be the brush's profile over the distance to the whole polyline,
 // computed here segment by segment in arithmetic of its own (so to 1e-12; the attract pieces'
 // pictures were the same bytes before and after the change).
 TEST(Patina, ALongStrokeIsTheProfileOfTheDistanceToAllItsSegments) {
-  Operation op;
-  op.kind = OpKind::Patina;
-  op.a = 2.5;
-  op.strength = 0.8;
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> step(-1.5, 1.5);
-  Vec2 at{0.0, 0.0};
-  for (int i = 0; i < 300; ++i) {  // a wandering stroke that crosses itself
-    op.points.push_back(at);
-    at.x += step(rng) + 0.4 * std::cos(i * 0.05), at.y += step(rng) + 0.4 * std::sin(i * 0.05);
-  }
+  const Operation op = wanderingStroke(rng, 300, 2.5, 0.8, 1.5, 0.4, 0.05);
   const PreparedOp prepared(op);
   const Box2 box = prepared.support();
   std::uniform_real_distribution<double> px(box.x0, box.x1), py(box.y0, box.y1);
@@ -130,17 +137,8 @@ TEST(Patina, ALongStrokeIsTheProfileOfTheDistanceToAllItsSegments) {
 // patinaAt() passes the segments of a long stroke eight at a time when the point lies beyond their
 // box grown by the brush's radius: the same bits as testing each segment's box.
 TEST(Patina, ALongStrokesSegmentsPassedInChunksGiveTheSameBits) {
-  Operation op;
-  op.kind = OpKind::Patina;
-  op.a = 1.5;
-  op.strength = 0.9;
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> step(-1.0, 1.0);
-  Vec2 at{0.0, 0.0};
-  for (int i = 0; i < 203; ++i) {  // a last chunk of two segments
-    op.points.push_back(at);
-    at.x += step(rng) + 0.3 * std::cos(i * 0.07), at.y += step(rng) + 0.3 * std::sin(i * 0.07);
-  }
+  const Operation op = wanderingStroke(rng, 203, 1.5, 0.9, 1.0, 0.3, 0.07);  // a last chunk of two segments
   const PreparedOp prepared(op);
   const Box2 box = prepared.support();
   std::uniform_real_distribution<double> px(box.x0, box.x1), py(box.y0, box.y1);
