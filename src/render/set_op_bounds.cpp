@@ -21,18 +21,10 @@ double rSum(double f, double g) {
   return g >= 0.0 ? g + r : (r - g > 0.0 ? f * f / (r - g) : 0.0);
 }
 
-// The upper end of widen().
-double widenHi(double v) { return v + 1e-12 + 1e-12 * std::abs(v); }
-
-// The bump's upper end, a1 / (1 + (f/a2)^2 + (g/a3)^2), for f's upper end fHi (its lower one not
-// known: it may be anything below) and (g/a3)^2 at least g2lo / a3^2.
-double bumpHi(const Operation& op, double fHi, double g2lo) {
-  if (!(op.a1 > 0.0)) return 0.0;  // a1 / d <= 0 for every d >= 1; its supremum is 0
-  const double f2lo = fHi < 0.0 ? fHi * fHi : 0.0;
-  return op.a1 / (1.0 + f2lo / (op.a2 * op.a2) + g2lo / (op.a3 * op.a3));
-}
-
 }  // namespace
+
+using set_op_bounds::bumpHi;
+using set_op_bounds::widenHi;
 
 Interval toolBound(const ToolShape& tool, const P3<Interval>& p) {
   switch (tool.type) {
@@ -69,7 +61,7 @@ double combineUpper(const PreparedOp& prepared, double fHi, const P3<Interval>& 
   if (op.kind == OpKind::Subtract) {
     c = std::min(fHi, -g.lo);
   } else {
-    const double b = bumpHi(op, fHi, sqr(g).lo);
+    const double b = bumpHi(op.a1, 1.0 / (op.a2 * op.a2), fHi, sqr(g).lo / (op.a3 * op.a3));
     c = op.kind == OpKind::BlendUnion ? fHi + rSum(fHi, g.hi) + b : fHi - rSum(fHi, g.lo) + b;
     c += 1e-13 * (std::abs(fHi) + std::max(std::abs(g.lo), std::abs(g.hi)));
   }

@@ -27,6 +27,21 @@ double combineUpper(const PreparedOp& op, double fHi, const P3<Interval>& box);
 // subtraction raises f by its bump at most (plain subtraction not at all); +infinity for a union.
 double combineUpperAnywhere(const PreparedOp& op, double fHi);
 
+namespace set_op_bounds {
+
+// The upper end of a bound widened for rounding, as every bound here is.
+inline double widenHi(double v) { return v + 1e-12 + 1e-12 * std::abs(v); }
+
+// The bump's upper end, a1 / (1 + (f/a2)^2 + (g/a3)^2), for f's upper end fHi (its lower one not
+// known: it may be anything below) and (g/a3)^2 at least g2lo3.
+inline double bumpHi(double a1, double invA2Squared, double fHi, double g2lo3) {
+  if (!(a1 > 0.0)) return 0.0;  // a1 / d <= 0 for every d >= 1; its supremum is 0
+  const double f2lo = fHi < 0.0 ? fHi * fHi : 0.0;
+  return a1 / (1.0 + f2lo * invA2Squared + g2lo3);
+}
+
+}  // namespace set_op_bounds
+
 // combineUpperAnywhere() from what it reads of the operation, kept beside the renderer's set
 // operations (read for a dozen of them in every interval test of a ray through a pile): the kind and
 // the bump's constants, 1 / a2^2 a product where it was a division.
@@ -38,14 +53,12 @@ struct AnywhereUpper {
   explicit AnywhereUpper(const Operation& op) : kind(op.kind), a1(op.a1), invA2Squared(1.0 / (op.a2 * op.a2)) {}
 
   double operator()(double fHi) const {
-    // The upper end of the bound, widened for rounding as every bound here is.
-    const auto widenHi = [](double v) { return v + 1e-12 + 1e-12 * std::abs(v); };
+    using set_op_bounds::widenHi;
     switch (kind) {
       case OpKind::Subtract: return widenHi(fHi);  // min(f, -g) <= f
       case OpKind::BlendSubtract: {
-        // f - s + bump with s >= 0, and the bump a1 / (1 + (f/a2)^2 + (g/a3)^2) at most as big as
-        // with g = 0 and f at its upper end (its lower one not known: it may be anything below).
-        const double b = a1 > 0.0 ? a1 / (1.0 + (fHi < 0.0 ? fHi * fHi : 0.0) * invA2Squared) : 0.0;
+        // f - s + bump with s >= 0, and the bump at most as big as with g = 0.
+        const double b = set_op_bounds::bumpHi(a1, invA2Squared, fHi, 0.0);
         return widenHi(std::max(fHi, fHi + b + 1e-13 * std::abs(fHi)));
       }
       default: return std::numeric_limits<double>::infinity();  // a union's tool may raise f anywhere
