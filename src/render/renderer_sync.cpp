@@ -23,9 +23,10 @@ void Renderer::sync(const Model& model) {
   // The sheet model's offsets come from the field: the grid serves set operations, patina and
   // dirty regions, and cells of a millimetre at least keep a stroke's insert cheap on a small
   // workpiece (docs/performance.md, "Stop 53").
-  grid_.setMinCellSize(model.deformation() == Deformation::Sheet ? kSheetGridCell : 0.0);
+  const double minCell = model.deformation() == Deformation::Sheet ? kSheetGridCell : 0.0;
+  grid_.setMinCellSize(minCell);
   grid_.sync(model);
-  patinaGrid_.setMinCellSize(model.deformation() == Deformation::Sheet ? kSheetGridCell : 0.0);
+  patinaGrid_.setMinCellSize(minCell);  // (cells as wide as grid_'s)
   patinaGrid_.sync(model);
   bounds_ = model.bounds();
   // The step: a quarter of the sheet's thickness, at most 0.25 mm: a sheet can never slip between
