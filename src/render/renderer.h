@@ -38,6 +38,7 @@ struct RenderStats {
   std::uint64_t denseRays = 0;    // field-tracer rays through a tangle of set operations (kDenseSetOps)
   std::uint64_t laneRays = 0;     // field-tracer rays whose walk went into SIMD lanes (walk_lanes.h)
   std::uint64_t setOpsLeftOut = 0;  // set operations whose support meets a ray's reach but whose box it misses
+  std::uint64_t windowSteps = 0;  // Lipschitz steps inside set operations' windows (RenderOptions::lipschitzInWindows)
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
   double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
@@ -45,6 +46,7 @@ struct RenderStats {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
     fieldEvaluations += o.fieldEvaluations, edgePixels += o.edgePixels, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
     reshaded += o.reshaded, denseRays += o.denseRays, laneRays += o.laneRays, setOpsLeftOut += o.setOpsLeftOut;
+    windowSteps += o.windowSteps;
     return *this;
   }
 };
@@ -67,6 +69,10 @@ struct RenderOptions {
   // crosses or passes within a hair of (false: every one whose support meets the ray's reach; the
   // same picture, slower; for tests).
   bool cullRaySetOps = true;
+  // Field tracer: inside a window of subtractions a ray takes Lipschitz steps from high above the
+  // sheet, the subtractions' bumps counted (RayContext::winRaise), before the interval tests
+  // (false: the interval tests alone; the same picture, slower; for tests).
+  bool lipschitzInWindows = true;
   // Field tracer, dirty updates: a pixel whose ray's hit the change cannot move (only its shading:
   // the cavity term, a patina stroke) is shaded again at the hit kept from its last trace instead
   // of traced (false: every ray traced; the same picture, slower; for comparison).
@@ -249,7 +255,7 @@ class Renderer {
     // millionth of the box's largest coordinate, past the rounding of the ray's points and of the
     // z range's margin.
     double hair = 0.0;
-    AnywhereUpper anywhere;  // its bound wherever its tool is: the interval tests' first pass
+    SetOpUpper upper;  // its upper bounds: over a box (second pass), wherever its tool is (first pass)
     std::uint64_t id = 0;
     // The offsets after it, summed over its support: the shift that moves its tool with the
     // sheet, kept like D (same lattice spacing, same update rules, bit-exact). Its lattice

@@ -190,7 +190,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
       run = s.run, shiftIn = in, shift = Interval(sb.lo, sb.hi);
     }
     ++st.opsVisited;
-    return combineUpper(model_->operations()[s.index], hi, P3<Interval>{box.x, box.y, box.z - shift});
+    return s.upper.over(hi, P3<Interval>{box.x, box.y, box.z - shift});
   };
   bool anywhere = false;  // a subtraction's tool was taken as anywhere
   double hi = v.hi;
@@ -198,10 +198,10 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   for (; k < nSet && hi < -kPruneEps; ++k) {
     const SetOp& s = *rc.setOps[k];
     if (!acts(s)) continue;
-    if (s.anywhere.kind == OpKind::BlendUnion) {
+    if (s.upper.kind == OpKind::BlendUnion) {
       hi = withTool(s, hi);
     } else {
-      hi = s.anywhere(hi), anywhere = true;  // combineUpperAnywhere()
+      hi = s.upper.anywhere(hi), anywhere = true;
       ++st.opsVisited;
     }
   }

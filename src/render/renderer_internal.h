@@ -48,6 +48,11 @@ inline constexpr int kSubdivisions = 16;
 // diagonal, so that no two share a row or column (a horizontal or a vertical edge gets four levels).
 inline constexpr double kEdgeSamples[2][2] = {{-0.3333, -0.3333}, {0.3333, 0.3333}};
 inline constexpr double kPruneEps = 1e-7;         // mm: a bound must clear zero by this much to skip
+// A window's raise (RayContext::winRaise) beyond which no Lipschitz step is tried in it, and the
+// margin such a step keeps below zero for rounding in the set operations' values (each off by a
+// few units in the last place of numbers of a few hundred mm at most) and for kPruneEps.
+inline constexpr double kNoWindowRaise = 1e6;
+inline constexpr double kRaiseMargin = 1e-6;
 // A walk step's stretch is found for a slope bound of at least this along the ray (traceField()).
 inline constexpr double kStepRate = 0.9;
 inline constexpr int kRecomputeTile = 64;         // samples per side of a field tile recomputed in parallel
@@ -146,11 +151,20 @@ struct Renderer::RayContext {
   double lf = 0.0;
   static constexpr int kMaxWindows = 8;
   long winLo[kMaxWindows], winHi[kMaxWindows];  // ascending, disjoint, in grid units
+  // The most the set operations that can act in each window raise f anywhere (SetOpUpper::
+  // raise(), summed; +infinity with a union among them): inside window i, f <= W + winRaise[i].
+  double winRaise[kMaxWindows];
   int windows = 0;
   bool inWindow(long qa, long qb) const {
     for (int i = 0; i < windows; ++i)
       if (winLo[i] <= qb && qa <= winHi[i]) return true;
     return false;
+  }
+  // The window holding q, or -1.
+  int windowOf(long q) const {
+    for (int i = 0; i < windows; ++i)
+      if (winLo[i] <= q && q <= winHi[i]) return i;
+    return -1;
   }
   // Stretches proven outside (beyond the field's domain; above the sheet's front face; outline
   // sheets: the ray over columns where W < 0).
@@ -167,21 +181,23 @@ struct Renderer::RayContext {
       if (skipLo[i] <= qa && qb <= skipHi[i]) return true;
     return false;
   }
-  // Adds a window [lo, hi], merging overlaps; too many windows become one up to `last`.
-  void addWindow(long lo, long hi, long last) {
+  // Adds a window [lo, hi] where set operations raising f by at most `raise` act, merging
+  // overlaps (their raises summed); too many windows become one up to `last`, its raise unknown.
+  void addWindow(long lo, long hi, long last, double raise = std::numeric_limits<double>::infinity()) {
     int i = 0;
     while (i < windows && winHi[i] < lo) ++i;
     int j = i;
-    while (j < windows && winLo[j] <= hi) lo = std::min(lo, winLo[j]), hi = std::max(hi, winHi[j]), ++j;
+    while (j < windows && winLo[j] <= hi) lo = std::min(lo, winLo[j]), hi = std::max(hi, winHi[j]), raise += winRaise[j], ++j;
     if (windows - (j - i) + 1 > kMaxWindows) {
       lo = std::min(lo, winLo[0]);
-      winLo[0] = lo, winHi[0] = last, windows = 1;
+      winLo[0] = lo, winHi[0] = last, winRaise[0] = std::numeric_limits<double>::infinity(), windows = 1;
       return;
     }
     const int tail = windows - j;
     std::move(winLo + j, winLo + j + tail, winLo + i + 1);
     std::move(winHi + j, winHi + j + tail, winHi + i + 1);
-    winLo[i] = lo, winHi[i] = hi;
+    std::move(winRaise + j, winRaise + j + tail, winRaise + i + 1);
+    winLo[i] = lo, winHi[i] = hi, winRaise[i] = raise;
     windows = i + 1 + tail;
   }
   // The first grid point >= q inside a window (or `none`).

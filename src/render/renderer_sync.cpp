@@ -266,7 +266,7 @@ void Renderer::syncSetOps(const Model& model) {
     s.index = static_cast<std::uint32_t>(i);
     s.id = ids[i];
     s.support = op.support();
-    s.anywhere = AnywhereUpper(op.op());
+    s.upper = SetOpUpper(op.op());
     bool sameRun = !setOps_.empty();
     for (size_t j = sameRun ? setOps_.back().index + 1 : i; sameRun && j < i; ++j) sameRun = !ops[j].op().isOffset();
     s.run = sameRun ? setOps_.back().run : static_cast<std::uint32_t>(setOps_.size());

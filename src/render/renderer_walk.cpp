@@ -58,7 +58,8 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   // the windows below (the first kDenseSetOps; more make the ray dense).
   int crossed = 0;
   double denseA = 1e300, denseB = -1e300;
-  double crossA[kDenseSetOps], crossB[kDenseSetOps];
+  double crossA[kDenseSetOps], crossB[kDenseSetOps], crossRaise[kDenseSetOps];
+  double listedRaise = 0.0;  // of those listed without crossing their box: they count in every window
   rayOps.clear();
   const RayClip clip(ray);
   setOpSupports_.meeting(reach, [&](std::uint32_t k) {
@@ -66,14 +67,17 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     const Box3 box{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi};
     double ta, tb;
     if (clip(box, ta, tb)) {
-      if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb;
+      if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = s.upper.raise();
       ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);
-    } else if (options_.cullRaySetOps) {
-      const double h = s.hair;
-      if (!clip(Box3{box.x0 - h, box.y0 - h, box.z0 - h, box.x1 + h, box.y1 + h, box.z1 + h}, ta, tb)) {
-        ++st.setOpsLeftOut;
-        return;
+    } else {
+      if (options_.cullRaySetOps) {
+        const double h = s.hair;
+        if (!clip(Box3{box.x0 - h, box.y0 - h, box.z0 - h, box.x1 + h, box.y1 + h, box.z1 + h}, ta, tb)) {
+          ++st.setOpsLeftOut;
+          return;
+        }
       }
+      listedRaise += s.upper.raise();
     }
     rayOps.push_back(&s);
   });
@@ -105,7 +109,9 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
       ++st.denseRays;
       rc.addWindow(floorToLong(denseA / h8) - 1, ceilToLong(denseB / h8) + 1, q1);
     } else {
-      for (int i = 0; i < crossed; ++i) rc.addWindow(floorToLong(crossA[i] / h8) - 1, ceilToLong(crossB[i] / h8) + 1, q1);
+      for (int i = 0; i < crossed; ++i)
+        rc.addWindow(floorToLong(crossA[i] / h8) - 1, ceilToLong(crossB[i] / h8) + 1, q1, crossRaise[i]);
+      for (int i = 0; i < rc.windows; ++i) rc.winRaise[i] += listedRaise;
     }
     // Above the sheet's front face over the ray's reach f < 0 (outside the windows): a ray from
     // above skips to where it goes under that face's highest point (the clip box also holds the
@@ -273,6 +279,11 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   // Of a step's quotients (below), the two whose divisors are fixed for the ray are products with
   // these reciprocals (Walk): a division is the slowest link of the step's chain.
   const double invStepH8 = walk.invStepH8, invRayH8 = walk.invRayH8;
+  // Lipschitz steps inside windows (below): where W's bound holds (not an outline sheet, whose
+  // Lipschitz value is the slab), and not on a dense ray, whose window is sampled on the cells'
+  // ends (a step from anywhere else would change the samples).
+  const bool lipschitzInWindows = options_.lipschitzInWindows && rc.lipschitz && !rc.dense && workpieceKind_ != 4;
+  long lipschitzTriedUntil = q0 - 1;
   while (q < q1) {
     ++st.steps;
     bool cellChecked = false;  // the interval test of [q, q + kCell] ran (and failed)
@@ -341,6 +352,34 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
       // at most, and near its tangle's surface such tests fail as often as not (the window of
       // the visitor's sheet in docs/performance.md, "Stop 59": 9 % less time than 32, 8 and 1
       // cells for every ray).
+      // First, from high above the sheet, a Lipschitz step as outside: inside window w, f <= W +
+      // winRaise[w] (the subtractions there raise f by their bumps at most), so every point
+      // closer than -(W(q) + winRaise[w]) / lf is proven outside. Tried until it first falls
+      // short of a cell in a window (near the surface it does, and the tests below take over).
+      if (lipschitzInWindows && q >= lipschitzTriedUntil) {
+        const int w = rc.windowOf(q);
+        const glm::dvec3 pq = at(q);
+        double room = -1.0;
+        if (rc.winRaise[w] < kNoWindowRaise && field_.contains(pq.x, pq.y)) {
+          double l;
+          if (known) {
+            l = fa.l;
+          } else {
+            ++st.evaluations, ++st.fieldEvaluations;
+            l = sheetValue(pq);
+          }
+          room = -l - rc.winRaise[w] - kRaiseMargin;
+        }
+        const long n = room > 0.0 ? static_cast<long>(std::min(room * invRayH8, 1e15)) : -1;
+        if (n >= kCell) {
+          ++st.windowSteps;
+          q = std::min(q + n + 1, std::min(rc.winHi[w] + 1, q1));
+          known = false;
+          prevQ = q0 - 2;
+          continue;
+        }
+        lipschitzTriedUntil = rc.winHi[w] + 1;
+      }
       constexpr long kLevels[4] = {4 * kSpan, kSpan, 2 * kCell, kCell};
       const int levels = rc.dense ? 3 : 4;
       bool skipped = false;

@@ -54,20 +54,17 @@ Interval toolBound(const ToolShape& tool, const P3<Interval>& p) {
   return Interval::whole();
 }
 
-double combineUpper(const PreparedOp& prepared, double fHi, const P3<Interval>& box) {
-  const Operation& op = prepared.op();
-  const Interval g = toolBound(op.tool, box);
+double SetOpUpper::over(double fHi, const P3<Interval>& box) const {
+  const Interval g = toolBound(tool, box);
   double c;
-  if (op.kind == OpKind::Subtract) {
+  if (kind == OpKind::Subtract) {
     c = std::min(fHi, -g.lo);
   } else {
-    const double b = bumpHi(op.a1, 1.0 / (op.a2 * op.a2), fHi, sqr(g).lo / (op.a3 * op.a3));
-    c = op.kind == OpKind::BlendUnion ? fHi + rSum(fHi, g.hi) + b : fHi - rSum(fHi, g.lo) + b;
+    const double b = bumpHi(a1, invA2Squared, fHi, sqr(g).lo * invA3Squared);
+    c = kind == OpKind::BlendUnion ? fHi + rSum(fHi, g.hi) + b : fHi - rSum(fHi, g.lo) + b;
     c += 1e-13 * (std::abs(fHi) + std::max(std::abs(g.lo), std::abs(g.hi)));
   }
   return widenHi(std::max(fHi, c));
 }
-
-double combineUpperAnywhere(const PreparedOp& prepared, double fHi) { return AnywhereUpper(prepared.op())(fHi); }
 
 }  // namespace emboss

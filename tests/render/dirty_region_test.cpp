@@ -636,6 +636,53 @@ TEST(DirtyRegion, LeavingOutTheSetOperationsARayMissesChangesNoPixel) {
   }
 }
 
+// Inside the windows of flat tools beating the relief down (subtractions alone) a ray takes
+// Lipschitz steps from high above the sheet, their bumps counted: the picture is still the one the
+// interval tests alone give, from above, at a slant, close up and low down, with tools from just
+// over the sheet to well above it.
+TEST(DirtyRegion, LipschitzStepsInsideTheSubtractionsWindowsChangeNoPixel) {
+  const GeneratedPiece piece = generatePiece(60, 4, PieceOptions{PieceShape::Plate, 60.0, 40.0, 0.25, Deformation::Sheet, 2.0});
+  Model model(piece.workpiece, piece.deformation);
+  PieceRandom rng(17);
+  const double d = piece.workpiece->halfThickness();
+  for (size_t k = 0; k < piece.operations.size(); ++k) {
+    ASSERT_TRUE(model.add(piece.operations[k]).ok());
+    if (k % 2 != 0) continue;
+    Operation flat;
+    flat.kind = k % 8 == 0 ? OpKind::Subtract : OpKind::BlendSubtract;
+    flat.tool.type = ToolShape::Type::Flat;
+    flat.tool.half = {rng.uniform(1.0, 3.0), rng.uniform(1.0, 2.1), rng.uniform(0.5, 1.0)};
+    flat.tool.center = {rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.2, 3.0)};
+    flat.a1 = rng.uniform(0.05, 0.4), flat.a2 = 1.2, flat.a3 = 1.2;
+    ASSERT_TRUE(model.add(flat).ok());
+  }
+  std::vector<CameraSpec> cameras(4);
+  cameras[0].eye = {0, 0, 150};
+  cameras[1].eye = {0, -70, 170};  // the kiosk's slant
+  cameras[2].eye = {8, -25, 30};   // close up
+  cameras[3].eye = {0, -110, 12};  // low down
+  ThreadPool pool(2);
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    Renderer stepping(pool), tested(pool);
+    const Camera cam(cameras[k], 160, 100);
+    for (Renderer* r : {&stepping, &tested}) {
+      RenderOptions o;
+      o.lipschitzInWindows = r == &stepping;
+      r->setOptions(o);
+      r->setCamera(cam);
+      r->setShading(shading(model));
+      r->sync(model);
+    }
+    Image a, b;
+    RenderStats sa, sb;
+    stepping.renderFull(a, &sa);
+    tested.renderFull(b, &sb);
+    EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
+    EXPECT_GT(sa.windowSteps, sa.rays / 20) << "camera " << k;
+    EXPECT_EQ(sb.windowSteps, 0u) << "camera " << k;
+  }
+}
+
 // On an outline sheet only the pixels over the column leaves the outline reaches, and over the set
 // operations' boxes, are traced: the picture is still the one every pixel's ray gives, with a bead
 // blended on beside the outline (where no column is inside), from above, at a slant and low down.

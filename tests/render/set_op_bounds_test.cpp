@@ -1,5 +1,5 @@
-// combineUpper and combineUpperAnywhere: a set operation's upper bound over a box holds every value
-// combine() takes in it, and it stays tight where set operations pile up (a bound that grew with
+// SetOpUpper: a set operation's upper bound over a box holds every value combine() takes in it,
+// and so do its bound wherever the tool is and its raise, and it stays tight where set operations pile up (a bound that grew with
 // |f| failed every interval test of a ray through a pile of flat punches, far above the sheet).
 #include <gtest/gtest.h>
 
@@ -53,7 +53,7 @@ struct RandomBox {
 
 // The upper ends alone (what proves f < 0): above every value combine() takes in the box for any
 // f up to the given upper end; the bound without the tool's place is looser still, and infinite
-// for a union.
+// for a union; and f raised by the operation's raise() is above them all.
 TEST(SetOpBounds, UpperEndsHoldEveryValueBelowThem) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -63,9 +63,10 @@ TEST(SetOpBounds, UpperEndsHoldEveryValueBelowThem) {
     const RandomBox rb(rng);
     const P3<Interval> box = rb.box();
     const double fHi = -30.0 * u(rng) * u(rng) + 2.0 * u(rng);
-    const double upper = combineUpper(op, fHi, box), anywhere = combineUpperAnywhere(op, fHi);
+    const SetOpUpper bounds(op.op());
+    const double upper = bounds.over(fHi, box), anywhere = bounds.anywhere(fHi);
     if (op.op().kind == OpKind::BlendUnion)
-      EXPECT_TRUE(std::isinf(anywhere));
+      EXPECT_TRUE(std::isinf(anywhere) && std::isinf(bounds.raise()));
     else
       ASSERT_GE(anywhere, upper - 1e-9) << "trial " << trial;
     for (int s = 0; s < 40; ++s) {
@@ -75,6 +76,8 @@ TEST(SetOpBounds, UpperEndsHoldEveryValueBelowThem) {
       const double v = op.combine(f, p);
       ASSERT_LE(v, upper) << "trial " << trial << " f " << f;
       ASSERT_LE(v, anywhere) << "trial " << trial << " f " << f;
+      // (The margin the walk's Lipschitz steps inside windows keep, kRaiseMargin, is 1e-6.)
+      ASSERT_LE(v, f + bounds.raise() + 1e-9) << "trial " << trial << " f " << f;
     }
   }
 }
@@ -92,8 +95,9 @@ TEST(SetOpBounds, StayBelowZeroAboveAPile) {
   double exact = -6.0, hi = -5.9, anywhere = -5.9;
   for (const PreparedOp& op : pile) {
     exact = op.combine(exact, P3<double>{0.95, -0.25, 6.1});
-    hi = combineUpper(op, hi, box);
-    anywhere = op.op().kind == OpKind::BlendUnion ? combineUpper(op, anywhere, box) : combineUpperAnywhere(op, anywhere);
+    const SetOpUpper bounds(op.op());
+    hi = bounds.over(hi, box);
+    anywhere = op.op().kind == OpKind::BlendUnion ? bounds.over(anywhere, box) : bounds.anywhere(anywhere);
   }
   EXPECT_GE(hi, exact);
   EXPECT_LT(hi, -5.0);
