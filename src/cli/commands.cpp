@@ -54,7 +54,7 @@ Commands::Commands(CLI::App& app) : app_(app) {
   renderCmd_->add_option("--threads", threads_, "Threads in the pool (0: one per core)")->check(CLI::Range(0, 256));
   renderCmd_->add_option("--repeat", repeat_, "Render the whole frame N times, no reuse; writes the last")->check(CLI::Range(1, 100000));
   renderCmd_->add_flag("--naive", naive_, "No index: every operation at every point (for comparison)");
-  renderCmd_->add_flag("--stats", stats_, "Print mean steps per ray, operations per evaluation, pixels traced");
+  renderCmd_->add_flag("--stats", stats_, "Print the tracer's counts: pixels traced, steps and evaluations per ray, operations per evaluation, rays in lanes, Lipschitz steps in windows");
   renderCmd_->add_flag("--incremental", incremental_,
                        "Render the bare workpiece, then apply the operations one by one with dirty updates only");
 
@@ -205,10 +205,13 @@ int Commands::render() {
                 pool.size(), totalMs / repeat_, repeat_);
   }
   if (stats_) {
-    std::fprintf(info, "stats: pixels traced %llu, hits %llu, mean steps per ray %.2f, mean operations per evaluation %.2f, "
-                "edge pixels %llu (anti-aliased)\n",
+    std::fprintf(info, "stats: pixels traced %llu, hits %llu, mean steps per ray %.2f, mean evaluations per ray %.2f, "
+                "mean operations per evaluation %.2f, edge pixels %llu (anti-aliased), rays walked in lanes %llu, "
+                "dense rays %llu, Lipschitz steps in set operations' windows %llu\n",
                 static_cast<unsigned long long>(stats.rays), static_cast<unsigned long long>(stats.hits), stats.meanStepsPerRay(),
-                stats.meanOpsPerEvaluation(), static_cast<unsigned long long>(stats.edgePixels));
+                stats.meanEvaluationsPerRay(), stats.meanOpsPerEvaluation(), static_cast<unsigned long long>(stats.edgePixels),
+                static_cast<unsigned long long>(stats.laneRays), static_cast<unsigned long long>(stats.denseRays),
+                static_cast<unsigned long long>(stats.windowSteps));
   }
   Status s = writePng(image, out_);
   if (!s) {

@@ -57,7 +57,7 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   // on the visitor's sheet). The boxes it crosses keep their stretches of the ray, in order, for
   // the windows below (the first kDenseSetOps; more make the ray dense).
   int crossed = 0;
-  double denseA = 1e300, denseB = -1e300;
+  double denseA = 1e300, denseB = -1e300, denseRaise = 0.0;
   double crossA[kDenseSetOps], crossB[kDenseSetOps], crossRaise[kDenseSetOps];
   double listedRaise = 0.0;  // of those listed without crossing their box: they count in every window
   rayOps.clear();
@@ -68,7 +68,7 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     double ta, tb;
     if (clip(box, ta, tb)) {
       if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = s.upper.raise();
-      ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb);
+      ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb), denseRaise += s.upper.raise();
     } else {
       if (options_.cullRaySetOps) {
         const double h = s.hair;
@@ -107,7 +107,7 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     if (crossed >= kDenseSetOps) {
       rc.dense = true;
       ++st.denseRays;
-      rc.addWindow(floorToLong(denseA / h8) - 1, ceilToLong(denseB / h8) + 1, q1);
+      rc.addWindow(floorToLong(denseA / h8) - 1, ceilToLong(denseB / h8) + 1, q1, denseRaise + listedRaise);
     } else {
       for (int i = 0; i < crossed; ++i)
         rc.addWindow(floorToLong(crossA[i] / h8) - 1, ceilToLong(crossB[i] / h8) + 1, q1, crossRaise[i]);
@@ -282,7 +282,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   // Lipschitz steps inside windows (below): where W's bound holds (not an outline sheet, whose
   // Lipschitz value is the slab), and not on a dense ray, whose window is sampled on the cells'
   // ends (a step from anywhere else would change the samples).
-  const bool lipschitzInWindows = options_.lipschitzInWindows && rc.lipschitz && !rc.dense && workpieceKind_ != 4;
+  const bool lipschitzInWindows = options_.lipschitzInWindows && rc.lipschitz && workpieceKind_ != 4;
   long lipschitzTriedUntil = q0 - 1;
   while (q < q1) {
     ++st.steps;
@@ -371,9 +371,12 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
           room = -l - rc.winRaise[w] - kRaiseMargin;
         }
         const long n = room > 0.0 ? static_cast<long>(std::min(room * invRayH8, 1e15)) : -1;
-        if (n >= kCell) {
+        // A dense ray lands on the last cell's end the step proves outside: its cells stay the
+        // whole ray's grid's.
+        const long to = !rc.dense ? q + n + 1 : (q + n >= 0 ? (q + n) / kCell : -((-(q + n) + kCell - 1) / kCell)) * kCell;
+        if (n >= kCell && to > q) {
           ++st.windowSteps;
-          q = std::min(q + n + 1, std::min(rc.winHi[w] + 1, q1));
+          q = std::min(to, std::min(rc.winHi[w] + 1, q1));
           known = false;
           prevQ = q0 - 2;
           continue;

@@ -639,7 +639,8 @@ TEST(DirtyRegion, LeavingOutTheSetOperationsARayMissesChangesNoPixel) {
 // Inside the windows of flat tools beating the relief down (subtractions alone) a ray takes
 // Lipschitz steps from high above the sheet, their bumps counted: the picture is still the one the
 // interval tests alone give, from above, at a slant, close up and low down, with tools from just
-// over the sheet to well above it.
+// over the sheet to well above it, and a pile of them whose rays are dense (their steps land on
+// their cells' ends).
 TEST(DirtyRegion, LipschitzStepsInsideTheSubtractionsWindowsChangeNoPixel) {
   const GeneratedPiece piece = generatePiece(60, 4, PieceOptions{PieceShape::Plate, 60.0, 40.0, 0.25, Deformation::Sheet, 2.0});
   Model model(piece.workpiece, piece.deformation);
@@ -654,6 +655,16 @@ TEST(DirtyRegion, LipschitzStepsInsideTheSubtractionsWindowsChangeNoPixel) {
     flat.tool.half = {rng.uniform(1.0, 3.0), rng.uniform(1.0, 2.1), rng.uniform(0.5, 1.0)};
     flat.tool.center = {rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.2, 3.0)};
     flat.a1 = rng.uniform(0.05, 0.4), flat.a2 = 1.2, flat.a3 = 1.2;
+    ASSERT_TRUE(model.add(flat).ok());
+  }
+  // A pile of them beating one spot down, as a visitor does: rays through it are dense.
+  for (int i = 0; i < 14; ++i) {
+    Operation flat;
+    flat.kind = OpKind::BlendSubtract;
+    flat.tool.type = ToolShape::Type::Flat;
+    flat.tool.half = {3.0, 2.1, 1.0};
+    flat.tool.center = {-10.0 + 0.7 * i + rng.uniform(-0.5, 0.5), 5.0 + rng.uniform(-1.0, 1.0), d + rng.uniform(0.3, 1.5)};
+    flat.a1 = 0.135, flat.a2 = 1.2, flat.a3 = 1.2;
     ASSERT_TRUE(model.add(flat).ok());
   }
   std::vector<CameraSpec> cameras(4);
@@ -679,6 +690,7 @@ TEST(DirtyRegion, LipschitzStepsInsideTheSubtractionsWindowsChangeNoPixel) {
     tested.renderFull(b, &sb);
     EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
     EXPECT_GT(sa.windowSteps, sa.rays / 20) << "camera " << k;
+    EXPECT_GT(sa.denseRays, sa.rays / 100) << "camera " << k;
     EXPECT_EQ(sb.windowSteps, 0u) << "camera " << k;
   }
 }
