@@ -587,6 +587,47 @@ TEST(DirtyRegion, CullingOutsideTheClipBoxChangesNoPixel) {
   }
 }
 
+// A flat tool beating the relief down, its face half sizes `half`, at `center`.
+Operation flatTool(OpKind kind, const Vec3& center, const Vec3& half, double a1) {
+  Operation flat;
+  flat.kind = kind;
+  flat.tool.type = ToolShape::Type::Flat;
+  flat.tool.half = half;
+  flat.tool.center = center;
+  flat.a1 = a1, flat.a2 = 1.2, flat.a3 = 1.2;
+  return flat;
+}
+
+// Full frames of `model` by two renderers alike but for `option`, set for the first and cleared for
+// the second, seen from above, at the kiosk's slant, close up and low down: calls check(view, with,
+// its stats, without, its stats) for each view.
+template <class Check>
+void framesWithAndWithout(const Model& model, bool RenderOptions::*option, int w, int h, Check&& check) {
+  std::vector<CameraSpec> views(4);
+  views[0].eye = {0, 0, 150};
+  views[1].eye = {0, -70, 170};  // the kiosk's slant
+  views[2].eye = {8, -25, 30};   // close up
+  views[3].eye = {0, -110, 12};  // low down
+  ThreadPool pool(2);
+  for (size_t k = 0; k < views.size(); ++k) {
+    Renderer with(pool), without(pool);
+    const Camera cam(views[k], w, h);
+    for (Renderer* r : {&with, &without}) {
+      RenderOptions o;
+      o.*option = r == &with;
+      r->setOptions(o);
+      r->setCamera(cam);
+      r->setShading(shading(model));
+      r->sync(model);
+    }
+    Image a, b;
+    RenderStats sa, sb;
+    with.renderFull(a, &sa);
+    without.renderFull(b, &sb);
+    check(k, a, sa, b, sb);
+  }
+}
+
 // A ray's list of set operations leaves out those whose support meets its reach but whose box it
 // misses: the picture is still the one the whole list gives. Beads, cuts and flat tools beating
 // the relief down, between the strokes that move them after (their shifts), seen from above, at a
@@ -600,40 +641,16 @@ TEST(DirtyRegion, LeavingOutTheSetOperationsARayMissesChangesNoPixel) {
     ASSERT_TRUE(model.add(piece.operations[k]).ok());
     if (k % 3 != 0) continue;
     ASSERT_TRUE(model.add(randomSetOperation(rng, piece, 1.0)).ok());
-    Operation flat;
-    flat.kind = OpKind::BlendSubtract;
-    flat.tool.type = ToolShape::Type::Flat;
-    flat.tool.half = {3.0, 2.1, 1.0};
-    flat.tool.center = {rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.5, 3.0)};
-    flat.a1 = 0.135, flat.a2 = 1.2, flat.a3 = 1.2;
-    ASSERT_TRUE(model.add(flat).ok());
+    const Vec3 c{rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.5, 3.0)};
+    ASSERT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
   }
-  std::vector<CameraSpec> cameras(4);
-  cameras[0].eye = {0, 0, 150};
-  cameras[1].eye = {0, -70, 170};  // the kiosk's slant
-  cameras[2].eye = {8, -25, 30};   // close up
-  cameras[3].eye = {0, -110, 12};  // low down
-  ThreadPool pool(2);
-  for (size_t k = 0; k < cameras.size(); ++k) {
-    Renderer culled(pool), all(pool);
-    const Camera cam(cameras[k], 120, 80);
-    for (Renderer* r : {&culled, &all}) {
-      RenderOptions o;
-      o.cullRaySetOps = r == &culled;
-      r->setOptions(o);
-      r->setCamera(cam);
-      r->setShading(shading(model));
-      r->sync(model);
-    }
-    Image a, b;
-    RenderStats sa, sb;
-    culled.renderFull(a, &sa);
-    all.renderFull(b, &sb);
-    EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
-    EXPECT_GT(sa.setOpsLeftOut, sa.rays / 8) << "camera " << k;
-    EXPECT_EQ(sb.setOpsLeftOut, 0u) << "camera " << k;
-    EXPECT_GT(sb.opsVisited, sa.opsVisited) << "camera " << k;
-  }
+  framesWithAndWithout(model, &RenderOptions::cullRaySetOps, 120, 80,
+                       [](size_t k, const Image& a, const RenderStats& sa, const Image& b, const RenderStats& sb) {
+                         EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
+                         EXPECT_GT(sa.setOpsLeftOut, sa.rays / 8) << "camera " << k;
+                         EXPECT_EQ(sb.setOpsLeftOut, 0u) << "camera " << k;
+                         EXPECT_GT(sb.opsVisited, sa.opsVisited) << "camera " << k;
+                       });
 }
 
 // Inside the windows of flat tools beating the relief down (subtractions alone) a ray takes
@@ -649,50 +666,23 @@ TEST(DirtyRegion, LipschitzStepsInsideTheSubtractionsWindowsChangeNoPixel) {
   for (size_t k = 0; k < piece.operations.size(); ++k) {
     ASSERT_TRUE(model.add(piece.operations[k]).ok());
     if (k % 2 != 0) continue;
-    Operation flat;
-    flat.kind = k % 8 == 0 ? OpKind::Subtract : OpKind::BlendSubtract;
-    flat.tool.type = ToolShape::Type::Flat;
-    flat.tool.half = {rng.uniform(1.0, 3.0), rng.uniform(1.0, 2.1), rng.uniform(0.5, 1.0)};
-    flat.tool.center = {rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.2, 3.0)};
-    flat.a1 = rng.uniform(0.05, 0.4), flat.a2 = 1.2, flat.a3 = 1.2;
-    ASSERT_TRUE(model.add(flat).ok());
+    const Vec3 half{rng.uniform(1.0, 3.0), rng.uniform(1.0, 2.1), rng.uniform(0.5, 1.0)};
+    const Vec3 c{rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.2, 3.0)};
+    const double a1 = rng.uniform(0.05, 0.4);
+    ASSERT_TRUE(model.add(flatTool(k % 8 == 0 ? OpKind::Subtract : OpKind::BlendSubtract, c, half, a1)).ok());
   }
   // A pile of them beating one spot down, as a visitor does: rays through it are dense.
   for (int i = 0; i < 14; ++i) {
-    Operation flat;
-    flat.kind = OpKind::BlendSubtract;
-    flat.tool.type = ToolShape::Type::Flat;
-    flat.tool.half = {3.0, 2.1, 1.0};
-    flat.tool.center = {-10.0 + 0.7 * i + rng.uniform(-0.5, 0.5), 5.0 + rng.uniform(-1.0, 1.0), d + rng.uniform(0.3, 1.5)};
-    flat.a1 = 0.135, flat.a2 = 1.2, flat.a3 = 1.2;
-    ASSERT_TRUE(model.add(flat).ok());
+    const Vec3 c{-10.0 + 0.7 * i + rng.uniform(-0.5, 0.5), 5.0 + rng.uniform(-1.0, 1.0), d + rng.uniform(0.3, 1.5)};
+    ASSERT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
   }
-  std::vector<CameraSpec> cameras(4);
-  cameras[0].eye = {0, 0, 150};
-  cameras[1].eye = {0, -70, 170};  // the kiosk's slant
-  cameras[2].eye = {8, -25, 30};   // close up
-  cameras[3].eye = {0, -110, 12};  // low down
-  ThreadPool pool(2);
-  for (size_t k = 0; k < cameras.size(); ++k) {
-    Renderer stepping(pool), tested(pool);
-    const Camera cam(cameras[k], 160, 100);
-    for (Renderer* r : {&stepping, &tested}) {
-      RenderOptions o;
-      o.lipschitzInWindows = r == &stepping;
-      r->setOptions(o);
-      r->setCamera(cam);
-      r->setShading(shading(model));
-      r->sync(model);
-    }
-    Image a, b;
-    RenderStats sa, sb;
-    stepping.renderFull(a, &sa);
-    tested.renderFull(b, &sb);
-    EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
-    EXPECT_GT(sa.windowSteps, sa.rays / 20) << "camera " << k;
-    EXPECT_GT(sa.denseRays, sa.rays / 100) << "camera " << k;
-    EXPECT_EQ(sb.windowSteps, 0u) << "camera " << k;
-  }
+  framesWithAndWithout(model, &RenderOptions::lipschitzInWindows, 160, 100,
+                       [](size_t k, const Image& a, const RenderStats& sa, const Image& b, const RenderStats& sb) {
+                         EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
+                         EXPECT_GT(sa.windowSteps, sa.rays / 20) << "camera " << k;
+                         EXPECT_GT(sa.denseRays, sa.rays / 100) << "camera " << k;
+                         EXPECT_EQ(sb.windowSteps, 0u) << "camera " << k;
+                       });
 }
 
 // On an outline sheet only the pixels over the column leaves the outline reaches, and over the set
