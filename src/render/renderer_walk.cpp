@@ -67,8 +67,9 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     const Box3 box{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi};
     double ta, tb;
     if (clip(box, ta, tb)) {
-      if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = s.upper.raise();
-      ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb), denseRaise += s.upper.raise();
+      const double raise = s.upper.raise();
+      if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = raise;
+      ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb), denseRaise += raise;
     } else {
       if (options_.cullRaySetOps) {
         const double h = s.hair;
@@ -280,8 +281,8 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   // these reciprocals (Walk): a division is the slowest link of the step's chain.
   const double invStepH8 = walk.invStepH8, invRayH8 = walk.invRayH8;
   // Lipschitz steps inside windows (below): where W's bound holds (not an outline sheet, whose
-  // Lipschitz value is the slab), and not on a dense ray, whose window is sampled on the cells'
-  // ends (a step from anywhere else would change the samples).
+  // Lipschitz value is the slab). A dense ray's window is sampled on the cells' ends: its steps
+  // land on them.
   const bool lipschitzInWindows = options_.lipschitzInWindows && rc.lipschitz && workpieceKind_ != 4;
   long lipschitzTriedUntil = q0 - 1;
   while (q < q1) {
@@ -371,9 +372,10 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
           room = -l - rc.winRaise[w] - kRaiseMargin;
         }
         const long n = room > 0.0 ? static_cast<long>(std::min(room * invRayH8, 1e15)) : -1;
-        // A dense ray lands on the last cell's end the step proves outside: its cells stay the
-        // whole ray's grid's.
-        const long to = !rc.dense ? q + n + 1 : (q + n >= 0 ? (q + n) / kCell : -((-(q + n) + kCell - 1) / kCell)) * kCell;
+        // Every point up to q + n is proven outside: the walk goes on from the next, or a dense ray
+        // from the last cell's end among them (its cells stay the whole ray's grid's).
+        const long last = q + n;
+        const long to = !rc.dense ? last + 1 : (last >= 0 ? last / kCell : -((-last + kCell - 1) / kCell)) * kCell;
         if (n >= kCell && to > q) {
           ++st.windowSteps;
           q = std::min(to, std::min(rc.winHi[w] + 1, q1));
