@@ -48,10 +48,9 @@ inline constexpr int kSubdivisions = 16;
 // diagonal, so that no two share a row or column (a horizontal or a vertical edge gets four levels).
 inline constexpr double kEdgeSamples[2][2] = {{-0.3333, -0.3333}, {0.3333, 0.3333}};
 inline constexpr double kPruneEps = 1e-7;         // mm: a bound must clear zero by this much to skip
-// A window's raise (RayContext::winRaise) beyond which no Lipschitz step is tried in it, and the
-// margin such a step keeps below zero for rounding in the set operations' values (each off by a
-// few units in the last place of numbers of a few hundred mm at most) and for kPruneEps.
-inline constexpr double kNoWindowRaise = 1e6;
+// The margin a Lipschitz step inside a window (RayContext::winRaise) keeps below zero for rounding
+// in the set operations' values (each off by a few units in the last place of numbers of a few
+// hundred mm at most) and for kPruneEps.
 inline constexpr double kRaiseMargin = 1e-6;
 // A walk step's stretch is found for a slope bound of at least this along the ray (traceField()).
 inline constexpr double kStepRate = 0.9;
@@ -183,7 +182,7 @@ struct Renderer::RayContext {
   }
   // Adds a window [lo, hi] where set operations raising f by at most `raise` act, merging
   // overlaps (their raises summed); too many windows become one up to `last`, its raise unknown.
-  void addWindow(long lo, long hi, long last, double raise = std::numeric_limits<double>::infinity()) {
+  void addWindow(long lo, long hi, long last, double raise) {
     int i = 0;
     while (i < windows && winHi[i] < lo) ++i;
     int j = i;

@@ -361,7 +361,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
         const int w = rc.windowOf(q);
         const glm::dvec3 pq = at(q);
         double room = -1.0;
-        if (rc.winRaise[w] < kNoWindowRaise && field_.contains(pq.x, pq.y)) {
+        if (std::isfinite(rc.winRaise[w]) && field_.contains(pq.x, pq.y)) {  // (a union: no step)
           double l;
           if (known) {
             l = fa.l;
