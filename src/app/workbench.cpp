@@ -5,9 +5,11 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
+#include "frep/interval.h"
 #include "frep/workpieces.h"
 
 namespace emboss {
@@ -269,6 +271,34 @@ bool Workbench::admit(const Operation& op) const {
   return true;
 }
 
+namespace {
+
+// An upper bound of the displacement D over `face` (the operations `near` hold every offset whose
+// support meets it), within its interval bound over squares of side `cell` at most: squares whose
+// bound cannot raise the highest found so far are passed whole, the others split in four.
+double highestDisplacement(const Model& model, const Box2& face, std::span<const std::uint32_t> near, double cell) {
+  const auto at = [&](double x, double y) { return model.displacement(x, y, 0.0, near); };
+  double best = std::max({at(face.x0, face.y0), at(face.x1, face.y0), at(face.x0, face.y1), at(face.x1, face.y1),
+                          at(0.5 * (face.x0 + face.x1), 0.5 * (face.y0 + face.y1))});
+  std::vector<Box2> open{face};
+  while (!open.empty()) {
+    const Box2 b = open.back();
+    open.pop_back();
+    const double hi = model.displacement(Interval(b.x0, b.x1), Interval(b.y0, b.y1), Interval(0.0), near).hi;
+    if (hi <= best) continue;
+    if (b.x1 - b.x0 <= cell && b.y1 - b.y0 <= cell) {
+      best = hi;
+      continue;
+    }
+    const double mx = 0.5 * (b.x0 + b.x1), my = 0.5 * (b.y0 + b.y1);
+    open.push_back({b.x0, b.y0, mx, my}), open.push_back({mx, b.y0, b.x1, my});
+    open.push_back({b.x0, my, mx, b.y1}), open.push_back({mx, my, b.x1, b.y1});
+  }
+  return best;
+}
+
+}  // namespace
+
 Operation Workbench::fitted(const Operation& op) const {
   if (op.kind != OpKind::BlendSubtract || op.tool.type != ToolShape::Type::Flat) return op;
   const double t = 2.0 * model_->workpiece().halfThickness();
@@ -308,6 +338,14 @@ Operation Workbench::fitted(const Operation& op) const {
     // would halve it each time, down to less than the tracer's grid along a ray).
     lowest = std::max(lowest, *back + std::max(0.5 * (*front - *back), t / 3.0));
   }
+  // Between those points the sheet may rise more than the box is tall (a slope of the relief):
+  // there the metal could lie wholly inside the box, above the downhill points' metal and below
+  // the uphill points' (which lie above the box, and were passed). In the sheet model of a flat
+  // workpiece the back face is D - d, which no strike moves, so every column keeps a third of the
+  // sheet when the face stays a third above the highest back face under it.
+  const Box3 wb = model_->workpiece().bounds();
+  if (model_->deformation() == Deformation::Sheet && std::abs(wb.z1 - wb.z0 - t) < 1e-9)
+    lowest = std::max(lowest, highestDisplacement(*model_, face, near, step) + wb.z0 + t / 3.0);
   if (c.z - h.z >= lowest) return op;
   Operation o = op;
   o.tool.center.z = lowest + h.z;

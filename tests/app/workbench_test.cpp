@@ -298,6 +298,55 @@ TEST(Workbench, TheFlatPunchNeverCutsThroughTheSheet) {
   EXPECT_GE(thinnest, sheet / 3.0 - 0.02) << "the flat punch cut the sheet down to " << thinnest << " mm";
 }
 
+// Nor on a steep slope: over the flank of a mound 9 mm high (six raised regions stacked), the
+// face raised above the downhill metal reaches the uphill metal that lay above its box before,
+// and must leave that its third too. Every strike's face is sampled each half millimetre.
+TEST(Workbench, TheFlatPunchNeverCutsThroughASteepSlope) {
+  Workbench b = benchWith(ToolKind::FlatPunch);
+  std::string ops;
+  for (int i = 0; i < 6; ++i)
+    ops += std::string(i ? "," : "") +
+           R"({"op": "region", "side": "back", "contour": [[-8, -8], [8, -8], [8, 8], [-8, 8]], "height": 1.5, "falloff": 1.5})";
+  const auto scene = parseScene(R"({"format": "emboss-scene", "version": 1, "workpiece": {"type": "plate", "w": 120, "h": 80, "d": 0.5},
+                                    "operations": [)" + ops + "]}",
+                                "mound", ".");
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  ASSERT_TRUE(b.restore(scene->operations, 6, {6}, {}, "copper", 1));
+  double t = 0;
+  for (double y : {-9.5, 9.5}) drag(b, line({-12, y}, {12, y}, 48), 1.0, t);
+  for (double x : {-9.5, 9.5}) drag(b, line({x, -12}, {x, 12}, 48), 1.0, t);
+  const Model& m = b.model();
+  const auto mound = scene->makeModel();
+  ASSERT_TRUE(mound.ok());
+  const double sheet = 2.0 * m.workpiece().halfThickness();
+  int strikes = 0, beating = 0;
+  double thinnest = 1e9;
+  for (size_t i = 6; i < m.activeCount(); ++i) {
+    const Operation& op = m.operations()[i].op();
+    if (op.kind != OpKind::BlendSubtract) continue;
+    ++strikes;
+    const Vec3& c = op.tool.center;
+    // Whether its face went into the mound's metal anywhere (it beat something down).
+    bool beat = false;
+    for (double u = -op.tool.half.x; u <= op.tool.half.x + 1e-9 && !beat; u += 0.5)
+      for (double v = -op.tool.half.y; v <= op.tool.half.y + 1e-9 && !beat; v += 0.5)
+        beat = mound->evaluate(P3<double>{c.x + u, c.y + v, c.z - op.tool.half.z}) >= 0.0;
+    beating += beat;
+    for (double u = -op.tool.half.x; u <= op.tool.half.x + 1e-9; u += 0.5)
+      for (double v = -op.tool.half.y; v <= op.tool.half.y + 1e-9; v += 0.5) {
+        double run = 0, best = 0;  // the thickest run of metal along z, from above the mound down
+        for (double z = 12.0; z > -2.0 && best < sheet / 3.0; z -= 0.01) {
+          run = m.evaluate(P3<double>{c.x + u, c.y + v, z}) >= 0.0 ? run + 0.01 : 0.0;
+          best = std::max(best, run);
+        }
+        thinnest = std::min(thinnest, best);
+      }
+  }
+  EXPECT_GT(strikes, 8);
+  EXPECT_GT(beating, strikes / 2) << "the strikes were lifted off the metal";
+  EXPECT_GE(thinnest, sheet / 3.0 - 0.02) << "a strike on the slope cut the sheet down to " << thinnest << " mm";
+}
+
 TEST(Workbench, UndoAndRedoTakeWholeStrokes) {
   Workbench b = makeBench();
   double t = 0;
