@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <queue>
 #include <span>
 #include <utility>
 #include <vector>
@@ -273,17 +274,26 @@ bool Workbench::admit(const Operation& op) const {
 
 namespace {
 
-// An upper bound of the displacement D over `face` (the operations `near` hold every offset whose
-// support meets it), within its interval bound over squares of side `cell` at most: squares whose
-// bound cannot raise the highest found so far are passed whole, the others split in four.
-double highestDisplacement(const Model& model, const Box2& face, std::span<const std::uint32_t> near, double cell) {
-  const auto at = [&](double x, double y) { return model.displacement(x, y, 0.0, near); };
-  double best = std::max({at(face.x0, face.y0), at(face.x1, face.y0), at(face.x0, face.y1), at(face.x1, face.y1),
-                          at(0.5 * (face.x0 + face.x1), 0.5 * (face.y0 + face.y1))});
-  std::vector<Box2> open{face};
-  while (!open.empty()) {
-    const Box2 b = open.back();
-    open.pop_back();
+// The highest the displacement D can be over `face` where that is above `floor`, or `floor`: D's
+// interval bounds (the operations `near` hold every offset whose support meets the face) over
+// squares of side `cell` at most, the square of the highest bound split first, squares whose bound
+// is not above the highest found passed whole. After kMostSquares squares the highest bound of
+// those not yet split stands for them (higher, never lower: the face may end a little higher).
+double highestDisplacement(const Model& model, const Box2& face, std::span<const std::uint32_t> near, double cell,
+                           double floor) {
+  constexpr int kMostSquares = 256;
+  struct Square {
+    Box2 b;
+    double bound;  // its parent's bound of D
+    bool operator<(const Square& o) const { return bound < o.bound; }
+  };
+  double best = floor;
+  std::priority_queue<Square> open;
+  open.push({face, std::numeric_limits<double>::infinity()});
+  for (int n = 0; !open.empty() && open.top().bound > best; ++n) {
+    if (n == kMostSquares) return open.top().bound;
+    const Box2 b = open.top().b;
+    open.pop();
     const double hi = model.displacement(Interval(b.x0, b.x1), Interval(b.y0, b.y1), Interval(0.0), near).hi;
     if (hi <= best) continue;
     if (b.x1 - b.x0 <= cell && b.y1 - b.y0 <= cell) {
@@ -291,8 +301,8 @@ double highestDisplacement(const Model& model, const Box2& face, std::span<const
       continue;
     }
     const double mx = 0.5 * (b.x0 + b.x1), my = 0.5 * (b.y0 + b.y1);
-    open.push_back({b.x0, b.y0, mx, my}), open.push_back({mx, b.y0, b.x1, my});
-    open.push_back({b.x0, my, mx, b.y1}), open.push_back({mx, my, b.x1, b.y1});
+    open.push({{b.x0, b.y0, mx, my}, hi}), open.push({{mx, b.y0, b.x1, my}, hi});
+    open.push({{b.x0, my, mx, b.y1}, hi}), open.push({{mx, my, b.x1, b.y1}, hi});
   }
   return best;
 }
@@ -344,8 +354,10 @@ Operation Workbench::fitted(const Operation& op) const {
   // workpiece the back face is D - d, which no strike moves, so every column keeps a third of the
   // sheet when the face stays a third above the highest back face under it.
   const Box3 wb = model_->workpiece().bounds();
-  if (model_->deformation() == Deformation::Sheet && std::abs(wb.z1 - wb.z0 - t) < 1e-9)
-    lowest = std::max(lowest, highestDisplacement(*model_, face, near, step) + wb.z0 + t / 3.0);
+  if (model_->deformation() == Deformation::Sheet && std::abs(wb.z1 - wb.z0 - t) < 1e-9) {
+    const double floor = std::max(lowest, c.z - h.z) - wb.z0 - t / 3.0;  // D up to it changes nothing
+    lowest = std::max(lowest, highestDisplacement(*model_, face, near, step, floor) + wb.z0 + t / 3.0);
+  }
   if (c.z - h.z >= lowest) return op;
   Operation o = op;
   o.tool.center.z = lowest + h.z;
