@@ -263,12 +263,14 @@ TEST(Workbench, TheBlendingPunchStacksAFewBeadsOnASpotAtMost) {
   EXPECT_EQ(b.model().activeCount(), onTheLine);
 }
 
-// The metal's thickness along z at (x, y): the longest run of f >= 0 from 3 mm above the plate to
-// 3 mm below it, in steps of 5 micrometres (0 where a hole goes through).
-double thicknessAt(const Model& m, double x, double y) {
+// The metal's thickness along z at (x, y): the longest run of f >= 0 from `top` down to `bottom`
+// (by default 3 mm above and below the plate), in steps of `step` (0 where a hole goes through);
+// the search ends once a run reaches `enough`.
+double thicknessAt(const Model& m, double x, double y, double top = 3.0, double bottom = -3.0, double step = 0.005,
+                   double enough = std::numeric_limits<double>::infinity()) {
   double best = 0, run = 0;
-  for (double z = 3.0; z > -3.0; z -= 0.005) {
-    run = m.evaluate(P3<double>{x, y, z}) >= 0.0 ? run + 0.005 : 0.0;
+  for (double z = top; z > bottom && best < enough; z -= step) {
+    run = m.evaluate(P3<double>{x, y, z}) >= 0.0 ? run + step : 0.0;
     best = std::max(best, run);
   }
   return best;
@@ -333,14 +335,8 @@ TEST(Workbench, TheFlatPunchNeverCutsThroughASteepSlope) {
         beat = mound->evaluate(P3<double>{c.x + u, c.y + v, c.z - op.tool.half.z}) >= 0.0;
     beating += beat;
     for (double u = -op.tool.half.x; u <= op.tool.half.x + 1e-9; u += 0.5)
-      for (double v = -op.tool.half.y; v <= op.tool.half.y + 1e-9; v += 0.5) {
-        double run = 0, best = 0;  // the thickest run of metal along z, from above the mound down
-        for (double z = 12.0; z > -2.0 && best < sheet / 3.0; z -= 0.01) {
-          run = m.evaluate(P3<double>{c.x + u, c.y + v, z}) >= 0.0 ? run + 0.01 : 0.0;
-          best = std::max(best, run);
-        }
-        thinnest = std::min(thinnest, best);
-      }
+      for (double v = -op.tool.half.y; v <= op.tool.half.y + 1e-9; v += 0.5)
+        thinnest = std::min(thinnest, thicknessAt(m, c.x + u, c.y + v, 12.0, -2.0, 0.01, sheet / 3.0));
   }
   EXPECT_GT(strikes, 8);
   EXPECT_GT(beating, strikes / 2) << "the strikes were lifted off the metal";
