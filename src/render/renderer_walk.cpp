@@ -223,6 +223,8 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   };
   const Val unknown{-1.0, -1.0};
   constexpr long kCell = kSubdivisions;
+  // The end of a cell of the whole ray's grid at or before q: the multiple of kCell (q may be negative).
+  const auto cellEndAtOrBefore = [](long q) { return (q >= 0 ? q / kCell : -((-q + kCell - 1) / kCell)) * kCell; };
   const bool linearCells = workpieceKind_ == 4 && rc.setOpCount == 0 && options_.scanOutlineCells;
   // The first q in (qa, qb] with f(q) >= 0, given f(qa) < 0: sets the bracket [q - 1, q].
   long bq = 0;
@@ -375,7 +377,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
         // Every point up to q + n is proven outside: the walk goes on from the next, or a dense ray
         // from the last cell's end among them (its cells stay the whole ray's grid's).
         const long last = q + n;
-        const long to = !rc.dense ? last + 1 : (last >= 0 ? last / kCell : -((-last + kCell - 1) / kCell)) * kCell;
+        const long to = !rc.dense ? last + 1 : cellEndAtOrBefore(last);
         if (n >= kCell && to > q) {
           ++st.windowSteps;
           q = std::min(to, std::min(rc.winHi[w] + 1, q1));
@@ -418,7 +420,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
     }
     // A dense ray's window is searched on the cells of the grid of the whole ray (q multiple of
     // kCell, whatever the clip): the first step into it goes to the next such end.
-    const long qn = rc.dense ? (q >= 0 ? q / kCell + 1 : -((-q) / kCell)) * kCell : q + kCell;
+    const long qn = rc.dense ? cellEndAtOrBefore(q) + kCell : q + kCell;
     const Val fb = value(qn);
     if (search(search, q, fa, qn, fb, cellChecked)) {
       bracketed = true;

@@ -328,15 +328,13 @@ TEST(Workbench, TheFlatPunchNeverCutsThroughASteepSlope) {
     if (op.kind != OpKind::BlendSubtract) continue;
     ++strikes;
     const Vec3& c = op.tool.center;
-    // Whether its face went into the mound's metal anywhere (it beat something down).
-    bool beat = false;
-    for (double u = -op.tool.half.x; u <= op.tool.half.x + 1e-9 && !beat; u += 0.5)
-      for (double v = -op.tool.half.y; v <= op.tool.half.y + 1e-9 && !beat; v += 0.5)
-        beat = mound->evaluate(P3<double>{c.x + u, c.y + v, c.z - op.tool.half.z}) >= 0.0;
-    beating += beat;
+    bool beat = false;  // whether its face went into the mound's metal anywhere (beat something down)
     for (double u = -op.tool.half.x; u <= op.tool.half.x + 1e-9; u += 0.5)
-      for (double v = -op.tool.half.y; v <= op.tool.half.y + 1e-9; v += 0.5)
+      for (double v = -op.tool.half.y; v <= op.tool.half.y + 1e-9; v += 0.5) {
+        beat = beat || mound->evaluate(P3<double>{c.x + u, c.y + v, c.z - op.tool.half.z}) >= 0.0;
         thinnest = std::min(thinnest, thicknessAt(m, c.x + u, c.y + v, 12.0, -2.0, 0.01, sheet / 3.0));
+      }
+    beating += beat;
   }
   EXPECT_GT(strikes, 8);
   EXPECT_GT(beating, strikes / 2) << "the strikes were lifted off the metal";
