@@ -164,8 +164,9 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
     row.candidatesMax = static_cast<double>(most);
   }
 
-  // Full frames, nothing reused between them, each after a frame of the baseline: the ratio of
-  // their medians holds when the machine's speed drifts during the run (a shared host).
+  // Full frames, no hit reused between them (the model's caches are kept: the field, and the pile's
+  // tops the first frame finds), each after a frame of the baseline: the ratio of their medians
+  // holds when the machine's speed drifts during the run (a shared host).
   Image image;
   std::vector<double> wall, cpu, base;
   RenderStats st;

@@ -179,6 +179,9 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
   if (spans.empty()) return true;
   const Rect rect = spans.box;
   const bool field = usesField();
+  // The pile's tops serve a frame that crosses much of the pile; a dirty update crosses few of its
+  // columns, and after a stroke there it would find theirs again each time (renderer.h, PileTops).
+  pileTopsNow_ = !reuse;
   // Two passes. The first traces one ray through the centre of every pixel of the spans and of
   // the ring of pixels around them; the second writes the spans' pixels, each from its own
   // centre sample, or, where it differs from a neighbour's (an edge: the sheet against the

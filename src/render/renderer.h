@@ -39,6 +39,7 @@ struct RenderStats {
   std::uint64_t laneRays = 0;     // field-tracer rays whose walk went into SIMD lanes (walk_lanes.h)
   std::uint64_t setOpsLeftOut = 0;  // set operations whose support meets a ray's reach but whose box it misses
   std::uint64_t windowSteps = 0;  // Lipschitz steps inside set operations' windows (RenderOptions::lipschitzInWindows)
+  std::uint64_t pileSkips = 0;    // skips above the pile's tops inside set operations' windows (RenderOptions::pileTops)
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
   double meanEvaluationsPerRay() const { return rays ? static_cast<double>(evaluations) / rays : 0.0; }
@@ -46,7 +47,7 @@ struct RenderStats {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
     fieldEvaluations += o.fieldEvaluations, edgePixels += o.edgePixels, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
     reshaded += o.reshaded, denseRays += o.denseRays, laneRays += o.laneRays, setOpsLeftOut += o.setOpsLeftOut;
-    windowSteps += o.windowSteps;
+    windowSteps += o.windowSteps, pileSkips += o.pileSkips;
     return *this;
   }
 };
@@ -87,6 +88,11 @@ struct RenderOptions {
   // at least eight), and the rest by continueField(), so that no frame waits for all of it. The
   // field ends with the same bits however it is cut. 0: at once.
   double fieldBandMs = 0.0;
+  // Field tracer, plates and discs, full frames: inside a window of set operations a ray first
+  // skips the stretch above the pile's top, column by column (Renderer::pileTop(): each column's
+  // bound, found once by intervals and kept until the model changes there), before the window's
+  // own steps and interval tests (false: those alone; the same picture, slower; for comparison).
+  bool pileTops = true;
 };
 
 // Two tracers share one contract (docs/rendering.md): a pixel's colour depends on nothing but the
@@ -388,6 +394,15 @@ class Renderer {
   double sheetValue(const glm::dvec3& p) const;
   bool fieldExcluded(const RayContext& rc, const glm::dvec3& a, const glm::dvec3& b, RenderStats& st,
                      std::vector<std::uint32_t>& scratch) const;
+  // Whether the set operations `ops` (those of a ray or a column, in the model's order) keep f < 0
+  // over `box` (its plane's rectangle `xy`), given f's upper end `hi` there before them.
+  bool setOpsExclude(const SetOp* const* ops, int n, const P3<Interval>& box, const Box2& xy, double hi,
+                     RenderStats& st) const;
+  // The pile's top over column (i, j) of pileTops_: f < 0 above it there (found on first use).
+  float pileTop(int i, int j) const;
+  // The last grid point from q on (at most qEnd) that the pile's tops prove outside along the ray
+  // (each point up to it is above its column's top), or q - 1.
+  long pileSkip(const Ray& ray, double h8, long q, long qEnd) const;
   // The unit normal of the field model at p. `d`: D and its slopes at p as the field gives them
   // (HeightField::valuesAndGradients()), for the field not to be read again.
   glm::dvec3 fieldNormal(const glm::dvec3& p, RenderStats& st, std::vector<std::uint32_t>& scratch,
@@ -540,6 +555,22 @@ class Renderer {
   Interval workpieceValue(const P3<Interval>& p) const;
   ColumnMap columns_;
   std::vector<SetOp> setOps_;            // active set operations, ascending index
+  // The pile of set operations bounded from above column by column (RenderOptions::pileTops): a
+  // grid of squares over the field's domain, each holding the height above which f < 0 over it
+  // (the workpiece, D and every set operation there, by intervals), NaN until a ray first asks
+  // (pileTop(); from any thread: the same value whoever finds it). What the model's changes can
+  // move is set back to NaN (refreshPileTops()). Only proves stretches empty: the picture is the
+  // same without it.
+  struct PileTops {
+    double x0 = 0.0, y0 = 0.0, size = 0.0, inv = 0.0;
+    int nx = 0, ny = 0;
+    std::unique_ptr<std::atomic<float>[]> top;
+  };
+  mutable PileTops pileTops_;
+  bool pileTopsNow_ = false;  // the render under way reads them: a full frame (render())
+  // After sync(): every square forgotten (`all`), else those over `changed`; none kept without
+  // set operations or for a workpiece other than a plate or a disc.
+  void refreshPileTops(bool all, const std::vector<Box2>& changed);
   // Their supports, and which of them meet a place (a ray's set-up, a hit's normal).
   SetOpBins setOpSupports_;
   Box3 fieldClip_{};                     // a box holding every surface of the field tracer's function

@@ -176,6 +176,12 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     else
       v = workpieceValue(P3<Interval>{box.x, box.y, box.z - d});
   }
+  return setOpsExclude(rc.setOps, nSet, box, xy, v.hi, st);
+}
+
+bool Renderer::setOpsExclude(const SetOp* const* ops, int n, const P3<Interval>& box, const Box2& xy, double vhi,
+                             RenderStats& st) const {
+  const auto acts = [&](const SetOp& s) { return s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi; };
   // Only f's upper end decides. First with the subtractions' tools anywhere (no shapes, no
   // shifts: a subtraction raises f by its bump at most), which proves most cells well clear of a
   // pile of them; then with every tool where it is.
@@ -193,10 +199,10 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
     return s.upper.over(hi, P3<Interval>{box.x, box.y, box.z - shift});
   };
   bool anywhere = false;  // a subtraction's tool was taken as anywhere
-  double hi = v.hi;
+  double hi = vhi;
   int k = 0;
-  for (; k < nSet && hi < -kPruneEps; ++k) {
-    const SetOp& s = *rc.setOps[k];
+  for (; k < n && hi < -kPruneEps; ++k) {
+    const SetOp& s = *ops[k];
     if (!acts(s)) continue;
     if (s.upper.kind == OpKind::BlendUnion) {
       hi = withTool(s, hi);
@@ -207,10 +213,10 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   }
   // (Every bound there is at least the f it is given: past zero the first pass stays past it.)
   if (hi < -kPruneEps) return true;
-  if (!anywhere && k == nSet) return false;  // the second pass would be the first
-  hi = v.hi;
-  for (k = 0; k < nSet && hi < -kPruneEps; ++k)  // (no bound lowers f: past zero is the end)
-    if (const SetOp& s = *rc.setOps[k]; acts(s)) hi = withTool(s, hi);
+  if (!anywhere && k == n) return false;  // the second pass would be the first
+  hi = vhi;
+  for (k = 0; k < n && hi < -kPruneEps; ++k)  // (no bound lowers f: past zero is the end)
+    if (const SetOp& s = *ops[k]; acts(s)) hi = withTool(s, hi);
   return hi < -kPruneEps;
 }
 

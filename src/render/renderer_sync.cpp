@@ -16,7 +16,8 @@ using namespace render_internal;
 void Renderer::sync(const Model& model) {
   const bool followed = model_ == &model && fieldReady_;
   std::vector<std::uint64_t> setIdsBefore;
-  for (const SetOp& s : setOps_) setIdsBefore.push_back(s.id);
+  std::vector<Box2> setSupportsBefore;
+  for (const SetOp& s : setOps_) setIdsBefore.push_back(s.id), setSupportsBefore.push_back(s.support);
   // Another model is followed from scratch (its operation ids are its own).
   if (model_ != &model) fieldReady_ = false;
   model_ = &model;
@@ -50,6 +51,17 @@ void Renderer::sync(const Model& model) {
   hasPatina_ = false;
   for (size_t i = 0; i < model.activeCount() && !hasPatina_; ++i) hasPatina_ = model.operations()[i].op().isPatina();
   forgetMovedHits(followed, setIdsBefore);
+  {
+    // The pile's tops where f can have changed: where D and the shifts did, and the supports of
+    // the set operations from the first that differs on (appended or undone, as a rule).
+    std::vector<Box2> changed;
+    for (const FieldChange& c : fieldChanges_) changed.push_back(c.region);
+    size_t same = 0;
+    while (same < setOps_.size() && same < setIdsBefore.size() && setOps_[same].id == setIdsBefore[same]) ++same;
+    for (size_t k = same; k < setSupportsBefore.size(); ++k) changed.push_back(setSupportsBefore[k]);
+    for (size_t k = same; k < setOps_.size(); ++k) changed.push_back(setOps_[k].support);
+    refreshPileTops(!followed || !fieldReady_ || lastSync_.rebuilt, changed);
+  }
   syncedRevision_ = model.revision();
   syncedWorkpiece_ = model.workpiecePtr();
 }
@@ -60,6 +72,7 @@ size_t Renderer::memoryBytes() const {
   n += saved_.samples.samples.capacity() * sizeof(HeightField::Sample);
   for (const SetOp& s : setOps_)
     if (s.shift) n += s.shift->memoryBytes();
+  if (pileTops_.top) n += static_cast<size_t>(pileTops_.nx) * static_cast<size_t>(pileTops_.ny) * sizeof(std::atomic<float>);
   return n;
 }
 
@@ -490,6 +503,7 @@ PixelSpans Renderer::continueField(double budgetMs) {
                                           .band = true, .rows = bandRows(band), .values = std::move(values)}};
   followFieldChanges(changes, {});
   forgetHitsNear(changes);
+  refreshPileTops(false, {box});
   updateFieldClip(*model_);
   return fieldRowsSpans(box, pending_.peak);
 }

@@ -279,6 +279,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   // Inside windows: the stretches whose interval tests failed (none yet: a walk comes here from its
   // start or from the lanes, which never enter a window).
   long failedUntil[3] = {q0 - 1, q0 - 1, q0 - 1};
+  constexpr long kLevels[4] = {4 * kSpan, kSpan, 2 * kCell, kCell};  // (the tests' stretches, below)
   // Of a step's quotients (below), the two whose divisors are fixed for the ray are products with
   // these reciprocals (Walk): a division is the slowest link of the step's chain.
   const double invStepH8 = walk.invStepH8, invRayH8 = walk.invRayH8;
@@ -287,6 +288,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   // land on them.
   const bool lipschitzInWindows = options_.lipschitzInWindows && rc.lipschitz && workpieceKind_ != 4;
   long lipschitzTriedUntil = q0 - 1;
+  const bool pileTops = pileTopsNow_ && options_.pileTops && pileTops_.top && ray.dir.z < 0.0;
   while (q < q1) {
     ++st.steps;
     bool cellChecked = false;  // the interval test of [q, q + kCell] ran (and failed)
@@ -355,7 +357,22 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
       // at most, and near its tangle's surface such tests fail as often as not (the window of
       // the visitor's sheet in docs/performance.md, "Stop 59": 9 % less time than 32, 8 and 1
       // cells for every ray).
-      // First, from high above the sheet, a Lipschitz step as outside: inside window w, f <= W +
+      // First the stretch above the pile's tops of the columns the ray crosses (pileSkip()), to
+      // the next point (a dense ray: the last cell's end) not proven outside.
+      if (pileTops) {
+        const long last = pileSkip(ray, h8, q, q1);
+        const long to = !rc.dense ? last + 1 : cellEndAtOrBefore(last);
+        if (to > q) {
+          ++st.pileSkips;
+          q = std::min(to, q1);
+          // Where it lands the pile is near: the tests of 32 and 8 cells would fail.
+          failedUntil[0] = q + kLevels[0], failedUntil[1] = q + kLevels[1];
+          known = false;
+          prevQ = q0 - 2;
+          continue;
+        }
+      }
+      // Then, from high above the sheet, a Lipschitz step as outside: inside window w, f <= W +
       // winRaise[w] (the subtractions there raise f by their bumps at most), so every point
       // closer than -(W(q) + winRaise[w]) / lf is proven outside. Tried until it first falls
       // short of a cell in a window (near the surface it does, and the tests below take over).
@@ -387,7 +404,6 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
         }
         lipschitzTriedUntil = rc.winHi[w] + 1;
       }
-      constexpr long kLevels[4] = {4 * kSpan, kSpan, 2 * kCell, kCell};
       const int levels = rc.dense ? 3 : 4;
       bool skipped = false;
       for (int level = 0; level < levels && !skipped; ++level) {

@@ -600,9 +600,10 @@ Operation flatTool(OpKind kind, const Vec3& center, const Vec3& half, double a1)
 
 // Full frames of `model` by two renderers alike but for `option`, set for the first and cleared for
 // the second, seen from above, at the kiosk's slant, close up and low down: calls check(view, with,
-// its stats, without, its stats) for each view.
+// its stats, without, its stats) for each view. The other options are `base`'s.
 template <class Check>
-void framesWithAndWithout(const Model& model, bool RenderOptions::*option, int w, int h, Check&& check) {
+void framesWithAndWithout(const Model& model, bool RenderOptions::*option, int w, int h, Check&& check,
+                          const RenderOptions& base = {}) {
   std::vector<CameraSpec> views(4);
   views[0].eye = {0, 0, 150};
   views[1].eye = {0, -70, 170};  // the kiosk's slant
@@ -613,7 +614,7 @@ void framesWithAndWithout(const Model& model, bool RenderOptions::*option, int w
     Renderer with(pool), without(pool);
     const Camera cam(views[k], w, h);
     for (Renderer* r : {&with, &without}) {
-      RenderOptions o;
+      RenderOptions o = base;
       o.*option = r == &with;
       r->setOptions(o);
       r->setCamera(cam);
@@ -676,13 +677,128 @@ TEST(DirtyRegion, LipschitzStepsInsideTheSubtractionsWindowsChangeNoPixel) {
     const Vec3 c{-10.0 + 0.7 * i + rng.uniform(-0.5, 0.5), 5.0 + rng.uniform(-1.0, 1.0), d + rng.uniform(0.3, 1.5)};
     ASSERT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
   }
+  // (The window's steps on their own: the pile's tops, tried first, would take most of them.)
+  RenderOptions withoutPileTops;
+  withoutPileTops.pileTops = false;
   framesWithAndWithout(model, &RenderOptions::lipschitzInWindows, 160, 100,
                        [](size_t k, const Image& a, const RenderStats& sa, const Image& b, const RenderStats& sb) {
                          EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
                          EXPECT_GT(sa.windowSteps, sa.rays / 20) << "camera " << k;
                          EXPECT_GT(sa.denseRays, sa.rays / 100) << "camera " << k;
                          EXPECT_EQ(sb.windowSteps, 0u) << "camera " << k;
+                       },
+                       withoutPileTops);
+}
+
+// A pile of flat tools beating one spot down, as a visitor does (its rays dense), beside blended
+// beads floating above it (unions, whose boxes reach far above the sheet), and flat tools over the
+// rest of the plate.
+Model pileOfFlatTools(std::uint32_t seed) {
+  const GeneratedPiece piece = generatePiece(40, seed, PieceOptions{PieceShape::Plate, 60.0, 40.0, 0.25, Deformation::Sheet, 2.0});
+  Model model(piece.workpiece, piece.deformation);
+  PieceRandom rng(seed * 31u + 7u);
+  const double d = piece.workpiece->halfThickness();
+  for (size_t k = 0; k < piece.operations.size(); ++k) {
+    EXPECT_TRUE(model.add(piece.operations[k]).ok());
+    if (k % 4 != 0) continue;
+    const Vec3 c{rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.2, 2.0)};
+    EXPECT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
+  }
+  for (int i = 0; i < 16; ++i) {
+    const Vec3 c{-10.0 + 0.6 * i + rng.uniform(-0.5, 0.5), 5.0 + rng.uniform(-1.5, 1.5), d + rng.uniform(0.3, 1.5)};
+    EXPECT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
+  }
+  for (int i = 0; i < 2; ++i) {
+    Operation bead;
+    bead.kind = OpKind::BlendUnion;
+    bead.tool.type = ToolShape::Type::Sphere;
+    bead.tool.r = 1.5;
+    bead.tool.center = {-6.0 + 5.0 * i, 5.0, d + 6.0 + 3.0 * i};
+    bead.a1 = 0.27, bead.a2 = 1.0, bead.a3 = 2.0;
+    EXPECT_TRUE(model.add(bead).ok());
+  }
+  return model;
+}
+
+// Inside the windows of set operations a ray first skips what lies above the pile's tops of the
+// columns it crosses: the picture is still the one the windows' own steps and interval tests give,
+// from above, at a slant, close up and low down, with fewer evaluations.
+TEST(DirtyRegion, SkippingAboveThePilesTopsChangesNoPixel) {
+  const Model model = pileOfFlatTools(19);
+  framesWithAndWithout(model, &RenderOptions::pileTops, 160, 100,
+                       [](size_t k, const Image& a, const RenderStats& sa, const Image& b, const RenderStats& sb) {
+                         EXPECT_EQ(firstDifference(a, b), "") << "camera " << k;
+                         EXPECT_GT(sa.pileSkips, sa.rays / 50) << "camera " << k;
+                         EXPECT_GT(sa.denseRays, sa.rays / 100) << "camera " << k;
+                         EXPECT_EQ(sb.pileSkips, 0u) << "camera " << k;
+                         EXPECT_LT(sa.evaluations, sb.evaluations) << "camera " << k;
                        });
+}
+
+// The pile's tops are found once and kept: strokes under the pile (punches raising it from
+// behind, a raised region, a trace), more flat tools on it, undos and redos move them, and after
+// each the full frame (which reads the tops kept) and the dirty update (which does not) still give
+// the bytes of a fresh full render.
+TEST(DirtyRegion, ThePilesTopsFollowWhatChangesUnderThem) {
+  Model model = pileOfFlatTools(23);
+  ThreadPool pool(2);
+  Renderer live(pool);
+  CameraSpec view;
+  view.eye = {-4, -60, 60}, view.target = {-4, 5, 0};
+  const Camera camera(view, 160, 100);
+  live.setCamera(camera);
+  live.setShading(shading(model));
+  live.sync(model);
+  Image image;
+  RenderStats first;
+  live.renderFull(image, &first);
+  ASSERT_GT(first.pileSkips, 0u);
+  PieceRandom rng(5);
+  const double d = model.workpiece().halfThickness();
+  for (int step = 0; step < 12; ++step) {
+    std::string what;
+    size_t index;
+    if (step % 4 == 3 && model.canUndo()) {
+      model.undo();
+      index = model.activeCount();
+      what = "undo";
+    } else if (step % 4 == 0 && model.canRedo() && step > 0) {
+      model.redo();
+      index = model.activeCount() - 1;
+      what = "redo";
+    } else {
+      Operation op;
+      const double x = rng.uniform(-11.0, 0.0), y = rng.uniform(3.0, 7.0);
+      if (step % 3 == 0) {
+        op.kind = OpKind::Punch, op.side = Side::Back, op.a = rng.uniform(1.2, 2.0), op.p = rng.uniform(0.6, 1.0), op.q = 1.0;
+        op.at = {x, y, 0.0};
+      } else if (step % 3 == 1) {
+        op = flatTool(OpKind::BlendSubtract, {x, y, d + rng.uniform(0.5, 1.5)}, {3.0, 2.1, 1.0}, 0.135);
+      } else if (step == 2) {
+        op.kind = OpKind::Region, op.side = Side::Back, op.height = 1.5, op.falloff = 2.0;
+        for (int i = 0; i < 16; ++i) {
+          const double a = 2.0 * std::numbers::pi * i / 16;
+          op.points.push_back({-6.0 + 6.0 * std::cos(a), 5.0 + 4.0 * std::sin(a)});
+        }
+      } else {
+        op.kind = OpKind::Trace, op.side = Side::Back, op.a = 0.8;
+        op.points = {{x - 4.0, y}, {x + 4.0, y + 1.0}};
+      }
+      ASSERT_TRUE(model.add(op).ok());
+      index = model.activeCount() - 1;
+      what = std::string("add ") + opKindName(op.kind);
+    }
+    SCOPED_TRACE("step " + std::to_string(step) + ": " + what);
+    live.sync(model);
+    ASSERT_TRUE(live.render(image, live.dirtySpans(model, index)));
+    std::string diff = againstFresh(model, camera, RenderOptions{}, image);
+    ASSERT_TRUE(diff.empty()) << "dirty update: " << diff;
+    RenderStats st;
+    ASSERT_TRUE(live.renderFull(image, &st));
+    EXPECT_GT(st.pileSkips, 0u);
+    diff = againstFresh(model, camera, RenderOptions{}, image);
+    ASSERT_TRUE(diff.empty()) << "full frame: " << diff;
+  }
 }
 
 // On an outline sheet only the pixels over the column leaves the outline reaches, and over the set
