@@ -395,8 +395,8 @@ class Renderer {
   bool fieldExcluded(const RayContext& rc, const glm::dvec3& a, const glm::dvec3& b, RenderStats& st,
                      std::vector<std::uint32_t>& scratch) const;
   // Whether the set operations `ops` (those of a ray or a column, in the model's order) keep f < 0
-  // over `box` (its plane's rectangle `xy`), given f's upper end `hi` there before them.
-  bool setOpsExclude(const SetOp* const* ops, int n, const P3<Interval>& box, const Box2& xy, double hi,
+  // over `box` (its plane's rectangle `xy`), given f's upper end `fHi` there before them.
+  bool setOpsExclude(const SetOp* const* ops, int n, const P3<Interval>& box, const Box2& xy, double fHi,
                      RenderStats& st) const;
   // The pile's top over column (i, j) of pileTops_: f < 0 above it there (found on first use).
   float pileTop(int i, int j) const;

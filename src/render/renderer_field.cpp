@@ -179,7 +179,7 @@ bool Renderer::fieldExcluded(const RayContext& rc, const glm::dvec3& a, const gl
   return setOpsExclude(rc.setOps, nSet, box, xy, v.hi, st);
 }
 
-bool Renderer::setOpsExclude(const SetOp* const* ops, int n, const P3<Interval>& box, const Box2& xy, double vhi,
+bool Renderer::setOpsExclude(const SetOp* const* ops, int n, const P3<Interval>& box, const Box2& xy, double fHi,
                              RenderStats& st) const {
   const auto acts = [&](const SetOp& s) { return s.support.overlaps(xy) && box.z.hi >= s.zlo && box.z.lo <= s.zhi; };
   // Only f's upper end decides. First with the subtractions' tools anywhere (no shapes, no
@@ -199,7 +199,7 @@ bool Renderer::setOpsExclude(const SetOp* const* ops, int n, const P3<Interval>&
     return s.upper.over(hi, P3<Interval>{box.x, box.y, box.z - shift});
   };
   bool anywhere = false;  // a subtraction's tool was taken as anywhere
-  double hi = vhi;
+  double hi = fHi;
   int k = 0;
   for (; k < n && hi < -kPruneEps; ++k) {
     const SetOp& s = *ops[k];
@@ -214,7 +214,7 @@ bool Renderer::setOpsExclude(const SetOp* const* ops, int n, const P3<Interval>&
   // (Every bound there is at least the f it is given: past zero the first pass stays past it.)
   if (hi < -kPruneEps) return true;
   if (!anywhere && k == n) return false;  // the second pass would be the first
-  hi = vhi;
+  hi = fHi;
   for (k = 0; k < n && hi < -kPruneEps; ++k)  // (no bound lowers f: past zero is the end)
     if (const SetOp& s = *ops[k]; acts(s)) hi = withTool(s, hi);
   return hi < -kPruneEps;
