@@ -598,6 +598,15 @@ Operation flatTool(OpKind kind, const Vec3& center, const Vec3& half, double a1)
   return flat;
 }
 
+// A pile of `count` flat tools beating one spot down, as a visitor does, `pitch` apart along x and
+// up to `spreadY` off the line: rays through it are dense.
+void addFlatPile(Model& model, PieceRandom& rng, double d, int count, double pitch, double spreadY) {
+  for (int i = 0; i < count; ++i) {
+    const Vec3 c{-10.0 + pitch * i + rng.uniform(-0.5, 0.5), 5.0 + rng.uniform(-spreadY, spreadY), d + rng.uniform(0.3, 1.5)};
+    EXPECT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
+  }
+}
+
 // Full frames of `model` by two renderers alike but for `option`, set for the first and cleared for
 // the second, seen from above, at the kiosk's slant, close up and low down: calls check(view, with,
 // its stats, without, its stats) for each view. The other options are `base`'s.
@@ -672,11 +681,7 @@ TEST(DirtyRegion, LipschitzStepsInsideTheSubtractionsWindowsChangeNoPixel) {
     const double a1 = rng.uniform(0.05, 0.4);
     ASSERT_TRUE(model.add(flatTool(k % 8 == 0 ? OpKind::Subtract : OpKind::BlendSubtract, c, half, a1)).ok());
   }
-  // A pile of them beating one spot down, as a visitor does: rays through it are dense.
-  for (int i = 0; i < 14; ++i) {
-    const Vec3 c{-10.0 + 0.7 * i + rng.uniform(-0.5, 0.5), 5.0 + rng.uniform(-1.0, 1.0), d + rng.uniform(0.3, 1.5)};
-    ASSERT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
-  }
+  addFlatPile(model, rng, d, 14, 0.7, 1.0);
   // (The window's steps on their own: the pile's tops, tried first, would take most of them.)
   RenderOptions withoutPileTops;
   withoutPileTops.pileTops = false;
@@ -704,10 +709,7 @@ Model pileOfFlatTools(std::uint32_t seed) {
     const Vec3 c{rng.uniform(-26.0, 26.0), rng.uniform(-16.0, 16.0), d + rng.uniform(0.2, 2.0)};
     EXPECT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
   }
-  for (int i = 0; i < 16; ++i) {
-    const Vec3 c{-10.0 + 0.6 * i + rng.uniform(-0.5, 0.5), 5.0 + rng.uniform(-1.5, 1.5), d + rng.uniform(0.3, 1.5)};
-    EXPECT_TRUE(model.add(flatTool(OpKind::BlendSubtract, c, {3.0, 2.1, 1.0}, 0.135)).ok());
-  }
+  addFlatPile(model, rng, d, 16, 0.6, 1.5);
   for (int i = 0; i < 2; ++i) {
     Operation bead;
     bead.kind = OpKind::BlendUnion;
