@@ -15,7 +15,7 @@ using namespace render_internal;
 namespace {
 
 // The squares' side: four times the field's spacing (0.5 mm at its finest), a few pixels of the
-// kiosk's view, and at most kMaxSquares of them over the field's domain.
+// kiosk's view, and at most kMaxPileSquares of them over the field's domain.
 constexpr double kPileSquareSamples = 4.0;
 constexpr long kMaxPileSquares = 4L << 20;
 // A column's top is searched down from the highest point anything there can reach in slabs of
