@@ -126,6 +126,39 @@ inline Box2 xyBox(const glm::dvec3& a, const glm::dvec3& b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.x, b.x), std::max(a.y, b.y)};
 }
 
+// A ray crossing a grid of squares in the plane (side `size`, `inv` its reciprocal, corner (x0,
+// y0)) from its point at t, square by square (a 2D DDA): the square (i, j) it is in, and the t
+// where it leaves it across x (tx) and across y (ty). A direction of under 1e-15 along an axis
+// never crosses it. The outline sheets' column blocks (beginWalkFrom()) and the pile's tops
+// (pileSkip()) walk this way.
+struct SquareWalk {
+  int i, j, si, sj;
+  double tx, ty, dtx, dty;
+  SquareWalk(const Ray& ray, double t, double x0, double y0, double size, double inv) {
+    const glm::dvec3 p = ray.origin + t * ray.dir;
+    i = floorToInt((p.x - x0) * inv), j = floorToInt((p.y - y0) * inv);
+    si = ray.dir.x > 0 ? 1 : -1, sj = ray.dir.y > 0 ? 1 : -1;
+    const double inf = std::numeric_limits<double>::infinity();
+    const bool alongX = std::abs(ray.dir.x) >= 1e-15, alongY = std::abs(ray.dir.y) >= 1e-15;
+    tx = alongX ? (x0 + (i + (si > 0 ? 1 : 0)) * size - ray.origin.x) / ray.dir.x : inf;
+    ty = alongY ? (y0 + (j + (sj > 0 ? 1 : 0)) * size - ray.origin.y) / ray.dir.y : inf;
+    dtx = alongX ? size / std::abs(ray.dir.x) : inf, dty = alongY ? size / std::abs(ray.dir.y) : inf;
+  }
+  // Where it leaves the square it is in.
+  double exit() const { return std::min(tx, ty); }
+  // On into the next square; returns the t where it enters it.
+  double next() {
+    if (tx < ty) {
+      const double t = tx;
+      tx += dtx, i += si;
+      return t;
+    }
+    const double t = ty;
+    ty += dty, j += sj;
+    return t;
+  }
+};
+
 inline Box3 unite(const Box3& a, const Box3& b) {
   return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::min(a.z0, b.z0),
           std::max(a.x1, b.x1), std::max(a.y1, b.y1), std::max(a.z1, b.z1)};

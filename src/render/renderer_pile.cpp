@@ -102,35 +102,22 @@ long Renderer::pileSkip(const Ray& ray, double h8, long q, long qEnd) const {
   const PileTops& g = pileTops_;
   if (!g.top || !(ray.dir.z < 0.0) || qEnd < q) return q - 1;
   const double t0 = static_cast<double>(q) * h8, tEnd = static_cast<double>(qEnd) * h8;
-  const glm::dvec3 p0 = ray.origin + t0 * ray.dir;
-  int i = floorToInt((p0.x - g.x0) * g.inv), j = floorToInt((p0.y - g.y0) * g.inv);
-  if (i < 0 || j < 0 || i >= g.nx || j >= g.ny) return q - 1;
-  // The squares the ray crosses from p0, in turn (a 2D DDA): the ray's t where it leaves the
-  // current one across x and across y, and the t a square's side takes.
-  const double inf = std::numeric_limits<double>::infinity();
-  const int si = ray.dir.x > 0.0 ? 1 : -1, sj = ray.dir.y > 0.0 ? 1 : -1;
-  const double ix = ray.dir.x != 0.0 ? 1.0 / ray.dir.x : inf, iy = ray.dir.y != 0.0 ? 1.0 / ray.dir.y : inf;
   const double iz = 1.0 / ray.dir.z;
-  double tx = ray.dir.x != 0.0 ? (g.x0 + (i + (si > 0 ? 1 : 0)) * g.size - ray.origin.x) * ix : inf;
-  double ty = ray.dir.y != 0.0 ? (g.y0 + (j + (sj > 0 ? 1 : 0)) * g.size - ray.origin.y) * iy : inf;
-  const double dtx = ray.dir.x != 0.0 ? g.size * std::abs(ix) : inf, dty = ray.dir.y != 0.0 ? g.size * std::abs(iy) : inf;
   // Each turn: the ray's stretch over one square from t, above its top: proven outside up to where
   // it goes under the top or leaves the square (its closed side: the squares' hair holds the
   // points rounded across it).
+  SquareWalk squares(ray, t0, g.x0, g.y0, g.size, g.inv);
   double t = t0;
   for (int guard = 0; guard < 256 && t < tEnd; ++guard) {
-    const double top = static_cast<double>(pileTop(i, j)) + kPileMargin;
+    if (squares.i < 0 || squares.j < 0 || squares.i >= g.nx || squares.j >= g.ny) break;
+    const double top = static_cast<double>(pileTop(squares.i, squares.j)) + kPileMargin;
     const double tDown = (top - ray.origin.z) * iz;  // (z falls along the ray: above the top before it)
     if (!(tDown > t)) break;
-    const double tExit = std::min(tx, ty);
-    if (tDown <= tExit) {
+    if (tDown <= squares.exit()) {
       t = tDown;
       break;
     }
-    t = std::max(t, tExit);
-    if (tx <= ty) tx += dtx, i += si;
-    else ty += dty, j += sj;
-    if (i < 0 || j < 0 || i >= g.nx || j >= g.ny) break;
+    t = std::max(t, squares.next());
   }
   // The grid points before t are proven outside (t itself may be on the top; a point within
   // rounding of t lies within the margin above the top, or the hair of the square it left).

@@ -137,17 +137,7 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
       // columns are skipped (where the ray's reach has any: most rays have none).
       const ColumnMap& c = columns_;
       const double tStart = static_cast<double>(q0) * h8, tEnd = static_cast<double>(q1) * h8;
-      const glm::dvec3 p0 = ray.origin + tStart * ray.dir;
-      int i = floorToInt((p0.x - c.x0) * c.inv), j = floorToInt((p0.y - c.y0) * c.inv);
-      const int si = ray.dir.x > 0 ? 1 : -1, sj = ray.dir.y > 0 ? 1 : -1;
-      const double inf = std::numeric_limits<double>::infinity();
-      auto crossing = [&](int k, int sk, double o, double d, double base) {
-        if (std::abs(d) < 1e-15) return inf;
-        return (base + (k + (sk > 0 ? 1 : 0)) * c.size - o) / d;
-      };
-      double tx = crossing(i, si, ray.origin.x, ray.dir.x, c.x0), ty = crossing(j, sj, ray.origin.y, ray.dir.y, c.y0);
-      const double dtx = std::abs(ray.dir.x) < 1e-15 ? inf : c.size / std::abs(ray.dir.x);
-      const double dty = std::abs(ray.dir.y) < 1e-15 ? inf : c.size / std::abs(ray.dir.y);
+      SquareWalk blocks(ray, tStart, c.x0, c.y0, c.size, c.inv);
       double t = tStart, runStart = tStart;
       int runClass = -1;
       auto endRun = [&](double tb) {
@@ -158,16 +148,13 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
         }
       };
       for (int guard = 0; t < tEnd; ++guard) {
-        const int k = c.block(i, j).hi < 0.0f ? 0 : 1;  // 0: outside
+        const int k = c.block(blocks.i, blocks.j).hi < 0.0f ? 0 : 1;  // 0: outside
         if (k != runClass) {
           endRun(t);
           runClass = k, runStart = t;
         }
         if (guard > 4096) break;  // a very long path: the rest is not skipped
-        if (tx < ty)
-          t = tx, tx += dtx, i += si;
-        else
-          t = ty, ty += dty, j += sj;
+        t = blocks.next();
       }
       endRun(std::min(t, tEnd));
     }
