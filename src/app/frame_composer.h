@@ -61,6 +61,13 @@ class FrameComposer {
   // The last work() left its work for the start of the next period (mayWait): nothing to do
   // until then.
   bool waiting() const { return waiting_; }
+  // The kiosk's step while a visitor draws (kiosk_app.cpp, and the bench's strokes as the kiosk
+  // shows them): work()'s budget (a pen event that arrives meanwhile waits at most this long
+  // before its own stroke is traced), and its presentBy, this long after the step took its pen
+  // events (the model's side of the step included): the stroke on the screen, coarse where its
+  // exact pixels would not fit in what is left, with the wait for the step within a frame at 60 Hz.
+  static constexpr double kPenStepMs = 6.0;
+  static constexpr std::chrono::milliseconds kPenFrame{12};
   // The time dirty rectangles may take before the big ones are shown coarse first (6 ms).
   void setDirtyBudget(double ms) { dirtyMs_ = ms; }
   // Traces everything pending (for snapshots, saving and exit); with a limit, stops after about

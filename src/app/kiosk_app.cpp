@@ -20,13 +20,7 @@ namespace {
 
 constexpr double kFrameSeconds = 1.0 / 60.0;  // one display frame: how much of a recording --fast feeds per step
 constexpr double kBudgetMs = 35.0;            // tracing per step beyond the dirty rectangles
-// The same with a visitor at the bench: a pen event that arrives meanwhile waits at most this
-// long before its own stroke is traced (stroke-to-screen latency).
-constexpr double kVisitorBudgetMs = 6.0;
-// A visitor's stroke is to be on the screen this long after the step took its pen events (the
-// model's side of the step included), coarse where its exact pixels would not fit in what is
-// left: with the wait for the step, within a frame at 60 Hz.
-constexpr std::chrono::milliseconds kPenFrame{12};
+// With a visitor at the bench: FrameComposer::kPenStepMs and kPenFrame.
 constexpr double kAnimationPeriod = 1.0 / 30.0;
 constexpr double kMaxAttractGap = 0.25;       // a longer step is a stall: attract mode does not catch up
 
@@ -319,12 +313,12 @@ bool KioskApp::step() {
   // tick of the grid below (the dirty rectangles are traced whatever the budget).
   const bool drawing = m == KioskMode::Visitor;
   const double budgetMs = animated  ? std::clamp((nextAnimation_ - clock_()) * 1000.0 - 2.0, 2.0, kBudgetMs)
-                          : drawing ? kVisitorBudgetMs
+                          : drawing ? FrameComposer::kPenStepMs
                                     : kBudgetMs;
   // In attract mode nobody waits for a stroke: what would not be traced before the next tick
   // waits for the turn after it.
   composer_->work(budgetMs, changed_, drawing, m == KioskMode::Attract,
-                  drawing ? std::optional(tStart + kPenFrame) : std::nullopt);
+                  drawing ? std::optional(tStart + FrameComposer::kPenFrame) : std::nullopt);
   const Steady::time_point tTrace = Steady::now();
   // Animated screens (attract mode, the countdown, the capture) are presented on a fixed 30 Hz
   // grid: timing each frame from the last present would add the loop's wake-up delay to every

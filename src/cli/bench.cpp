@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/frame_composer.h"
 #include "app/view_orbit.h"
 #include "bench/baseline_2d.h"
 #include "bench/host_cpu.h"
@@ -56,6 +57,10 @@ struct Row {
   double regionMs = 0, regionWorstMs = 0, regionPixels = 0;
   double punchPixels = 0, segmentPixels = 0;
   double punchReshaded = 0, segmentReshaded = 0;  // of their centre rays, shaded at kept hits (mean)
+  // The same strokes as the kiosk shows them (FrameComposer): the first picture presented, and
+  // the last exact pixel traced (means, worst); how many punches were shown coarse first.
+  double shownPunchMs = 0, shownPunchWorstMs = 0, shownPunchExactMs = 0, shownSegmentMs = 0, shownSegmentWorstMs = 0;
+  long shownPunchCoarse = 0;
   double opsPerEval = 0, stepsPerRay = 0, evalsPerRay = 0;
   double laneShare = 0;  // of a full frame's rays, those whose walk went into SIMD lanes
   double baselineMs = 0;  // the baseline's frames interleaved with this piece's (median)
@@ -236,6 +241,53 @@ Row measure(const std::string& name, const GeneratedPiece& piece, const Setup& s
     else
       for (size_t i = 0; i < full.rgba.size(); ++i) row.dirtyDiffer += full.rgba[i] != image.rgba[i];
   }
+  // The same punches and segments as the kiosk shows them while a visitor draws (FrameComposer,
+  // kiosk_app.cpp's step): the first picture presented, coarse where the exact pixels would not
+  // fit in the pen's frame, then the rest traced exactly (flush()). The composer follows the
+  // model with a renderer of its own; after the strokes and their undos its frame must be a full
+  // frame's bytes too.
+  {
+    FrameComposer composer(pool, s.width, s.height);
+    const ShadingParams shading = shadingFor(model);
+    std::vector<Rect> changed;
+    ViewChanges all;
+    all.full = true;
+    composer.show(model, piece.camera, shading, all, false);
+    composer.flush(changed);
+    PieceRandom again(1234);  // the strokes above, again
+    std::vector<double> punchFirst, punchExact, segmentFirst;
+    for (int i = 0; i < 2 * s.strokes; ++i) {
+      const bool isPunch = i % 2 == 0;
+      const Operation op = isPunch ? randomPunch(again, piece) : randomTraceSegment(again, piece);
+      const std::uint64_t coarseBefore = composer.counters().coarseRects;
+      const auto t = Clock::now();
+      (void)model.add(op);
+      ViewChanges added;
+      added.ops.push_back(model.activeCount() - 1);
+      composer.show(model, piece.camera, shading, added, false);
+      changed.clear();
+      composer.work(FrameComposer::kPenStepMs, changed, true, false, t + FrameComposer::kPenFrame);
+      (isPunch ? punchFirst : segmentFirst).push_back(msSince(t));
+      composer.flush(changed);
+      if (isPunch) {
+        punchExact.push_back(msSince(t));
+        row.shownPunchCoarse += composer.counters().coarseRects > coarseBefore;
+      }
+      model.undo();
+      ViewChanges undone;
+      undone.ops.push_back(model.activeCount());
+      composer.show(model, piece.camera, shading, undone, false);
+      composer.flush(changed);
+    }
+    row.shownPunchMs = mean(punchFirst), row.shownPunchWorstMs = worst(punchFirst), row.shownPunchExactMs = mean(punchExact);
+    row.shownSegmentMs = mean(segmentFirst), row.shownSegmentWorstMs = worst(segmentFirst);
+    Image full;
+    r.renderFull(full);
+    const Image& shown = composer.frame();
+    if (full.rgba.size() != shown.rgba.size()) row.dirtyDiffer += static_cast<long>(std::max(full.rgba.size(), shown.rgba.size()));
+    else
+      for (size_t i = 0; i < full.rgba.size(); ++i) row.dirtyDiffer += full.rgba[i] != shown.rgba[i];
+  }
   row.regionMs = mean(region), row.regionWorstMs = worst(region), row.regionPixels = regionPx / regions;
   row.punchMs = mean(punch), row.punchWorstMs = worst(punch);
   row.segmentMs = mean(segment), row.segmentWorstMs = worst(segment);
@@ -277,15 +329,17 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
        " point evaluations, tapes pruned from " + std::to_string(b.fullTape) + " to " + fmt("%.0f", b.leafTape) +
        " nodes on average in the 8x8 cells, " + fmt("%.0f", 100.0 * b.inside) + "% inside). Target: a full frame <= 1.5x it. "
        "A frame of it runs before each full frame of a piece: \"/ baseline\" is the ratio of the two medians.\n\n";
-  t += "| piece | ops | build ms | full frame ms | baseline ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | region update ms (worst) | undo ms | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | renderer MB | dirty = full |\n";
-  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  t += "| piece | ops | build ms | full frame ms | baseline ms | / baseline | CPU ms/frame (trace + shade) | punch update ms (worst) | segment update ms (worst) | region update ms (worst) | undo ms | shown by the kiosk: punch ms (worst), exact; segment ms (worst) | ops/eval field | index candidates/point (max) | ops/eval exact index | steps/ray | evals/ray | naive window | naive ms (est. full frame) | naive / indexed | renderer MB | dirty = full |\n";
+  t += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
     const double ratio = r.fieldWindowMs > 0 ? r.naiveWindowMs / r.fieldWindowMs : 0.0;
     t += "| " + r.piece + " | " + std::to_string(r.ops) + " | " + fmt("%.0f", r.buildMs) + " | " + fmt("%.1f", r.frameMs) +
          " | " + fmt("%.1f", r.baselineMs) + " | " + (r.baselineMs > 0 ? fmt("%.2fx", r.frameMs / r.baselineMs) : std::string("-")) + " | " + fmt("%.0f", r.frameCpuMs) + " (" + fmt("%.0f", r.traceCpuMs) + " + " + fmt("%.0f", r.shadeCpuMs) + ")" +
          " | " + fmt("%.2f", r.punchMs) + " (" + fmt("%.2f", r.punchWorstMs) + ")" + " | " + fmt("%.2f", r.segmentMs) + " (" +
          fmt("%.2f", r.segmentWorstMs) + ")" + " | " + fmt("%.1f", r.regionMs) + " (" + fmt("%.1f", r.regionWorstMs) + ")" +
-         " | " + fmt("%.2f", r.undoMs) + " | " + fmt("%.2f", r.opsPerEval) + " | " +
+         " | " + fmt("%.2f", r.undoMs) + " | " + fmt("%.2f", r.shownPunchMs) + " (" + fmt("%.2f", r.shownPunchWorstMs) + "), " +
+         fmt("%.1f", r.shownPunchExactMs) + "; " + fmt("%.2f", r.shownSegmentMs) + " (" + fmt("%.2f", r.shownSegmentWorstMs) + ")" +
+         " | " + fmt("%.2f", r.opsPerEval) + " | " +
          fmt("%.1f", r.candidates) + " (" + fmt("%.0f", r.candidatesMax) + ") | " + fmt("%.1f", r.exactOpsPerEval) + " | " + fmt("%.2f", r.stepsPerRay) + " | " + fmt("%.2f", r.evalsPerRay) + " | " +
          r.window + ": " + fmt("%.0f", r.naiveWindowMs) + " ms vs " + fmt("%.1f", r.fieldWindowMs) + " ms | " +
          fmt("%.0f", r.naiveFullEstimateMs) + " | " + fmt("%.0f", ratio) + "x | " + fmt("%.0f", r.rendererMb) + " | " +
@@ -306,13 +360,18 @@ std::string table(const std::vector<Row>& rows, const Setup& s, int cores, const
   t += "). steps/ray, evals/ray: a full frame's; of its rays, those whose walk went into " + std::string(simdTargetName()) +
        " lanes (" + std::to_string(walkLaneCount()) + " rays at once; docs/rendering.md, \"Rays in lanes\"): ";
   for (const Row& r : rows) t += r.piece + " " + fmt("%.0f", 100.0 * r.laneShare) + " %; ";
-  t += "(the others miss the piece's box, or start inside a window or a set operation's support). undo: the same after undoing the stroke. ops/eval field: operation kernels evaluated per function evaluation "
+  t += "(the others miss the piece's box, or start inside a window or a set operation's support). undo: the same after undoing the stroke. shown by the kiosk: the same strokes "
+       "through the kiosk's frame composer as a visitor draws (FrameComposer::work() with the pen's step's budget and "
+       "frame, as kiosk_app.cpp calls it): from the stroke to its first picture presented, coarse first where the exact "
+       "pixels would not fit in the pen's frame (punches shown coarse first: ";
+  for (const Row& r : rows) t += r.piece + " " + std::to_string(r.shownPunchCoarse) + " of " + std::to_string(s.strokes) + "; ";
+  t += "), and to the last exact pixel traced (flush()). ops/eval field: operation kernels evaluated per function evaluation "
        "by the field tracer (the displacement field stands for the offsets). index candidates: operations the grid "
        "lists at random points of the piece (what an exact evaluation through the index touches). ops/eval exact "
        "index: kernels per evaluation of the exact tracer through the grid over the window. naive: every operation at every point, timed over a window "
        "at the centre against the field tracer over the same window (ratio); the full-frame estimate scales the window "
        "by the rays that hit the piece. renderer MB: what the renderer holds for the model (the displacement field, the index, the set operations' shift fields, an outline's specialised tapes). dirty = full: "
-       "after the strokes and their undos, the picture their dirty updates left is the same bytes as a fresh full frame "
+       "after the strokes and their undos, the picture their dirty updates left, and the kiosk's frame composer's, are the same bytes as a fresh full frame "
        "(the bench exits 1 when it is not).\n";
   return t;
 }
