@@ -170,6 +170,9 @@ class Renderer {
   // An append under set operations over at most this many field samples has its values kept for
   // their shift fields (32 bytes a sample while sync() runs).
   static constexpr long kSharedValuesMaxSamples = 1L << 19;
+  // A run's set operation shares the shift field of the group before it while the group's box
+  // stays within this many times the area of its members' windows (SetOp::shift).
+  static constexpr double kShiftShareSlack = 1.5;
   // The pixels of the rows the last sync() added of an append that was still pending
   // (SyncInfo::pendingRows): to trace beside the new operations' dirtySpans().
   PixelSpans pendingSpans() const;
@@ -268,11 +271,15 @@ class Renderer {
     // reaches a sample past the support's every side, so that a patch inside the support reads
     // only samples whose twists are central differences: then the set operations of a run (no
     // offset between them: the same offsets after each) hold the same bits wherever their
-    // supports meet, and a point reads the run's shift once (fieldValue()).
+    // supports meet, and a point reads the run's shift once (fieldValue()). The operations of a
+    // run that crowd together (a pile) share one such field over the box of their windows
+    // (syncSetOps(), kShiftShareSlack): its owner, the group's first, follows the changes.
     std::shared_ptr<HeightField> shift;
-    std::uint32_t run = 0;  // the index in setOps_ of its run's first set operation
-    // Its samples under the last offset it added, when that was the model's last operation
-    // (savedId): put back when a live preview replaces that offset, as the field's are.
+    std::uint32_t run = 0;    // the index in setOps_ of its run's first set operation
+    std::uint32_t owner = 0;  // the index in setOps_ of the first set operation sharing its shift
+    bool sharesShift = false;  // its shift field is its group's (more than one member)
+    // The owner's: its field's samples under the last offset it added, when that was the model's
+    // last operation (savedId): put back when a live preview replaces that offset, as the field's are.
     std::shared_ptr<HeightField::Saved> saved;
     std::uint64_t savedId = 0;
   };

@@ -70,8 +70,8 @@ size_t Renderer::memoryBytes() const {
   size_t n = field_.memoryBytes() + grid_.memoryBytes() + patinaGrid_.memoryBytes();
   if (workpieceKind_ == 4) n += columns_.memoryBytes() + outlineMask_.size();
   n += saved_.samples.samples.capacity() * sizeof(HeightField::Sample);
-  for (const SetOp& s : setOps_)
-    if (s.shift) n += s.shift->memoryBytes();
+  for (size_t k = 0; k < setOps_.size(); ++k)
+    if (setOps_[k].shift && setOps_[k].owner == k) n += setOps_[k].shift->memoryBytes();
   if (pileTops_.top) n += static_cast<size_t>(pileTops_.nx) * static_cast<size_t>(pileTops_.ny) * sizeof(std::atomic<float>);
   return n;
 }
@@ -268,11 +268,12 @@ void Renderer::syncSetOps(const Model& model) {
   const auto& ops = model.operations();
   const auto& ids = model.operationIds();
   const size_t active = model.activeCount();
-  // Each set operation's shift field, kept (following the field's changes) or made afresh; the
+  // Each group's shift field (below), kept (following the field's changes) or made afresh; the
   // fields are independent, so they are brought up to date in parallel (an offset appended over
-  // a pile of set operations changes dozens of them).
-  std::vector<bool> kept;
+  // set operations changes several).
+  size_t lastOffset = 0;  // (one past the last offset)
   for (size_t i = 0; i < active; ++i) {
+    if (ops[i].op().isOffset()) lastOffset = i + 1;
     const PreparedOp& op = ops[i];
     if (!op.op().isSet()) continue;
     SetOp s;
@@ -283,12 +284,62 @@ void Renderer::syncSetOps(const Model& model) {
     bool sameRun = !setOps_.empty();
     for (size_t j = sameRun ? setOps_.back().index + 1 : i; sameRun && j < i; ++j) sameRun = !ops[j].op().isOffset();
     s.run = sameRun ? setOps_.back().run : static_cast<std::uint32_t>(setOps_.size());
-    while (reuse < old.size() && old[reuse].id != s.id) ++reuse;
-    const bool keep = fieldReady_ && reuse < old.size() && old[reuse].shift && !lastSync_.rebuilt;
-    if (keep) s.shift = std::move(old[reuse].shift), s.saved = std::move(old[reuse].saved), s.savedId = old[reuse].savedId;
-    else if (fieldReady_) s.shift = std::make_shared<HeightField>();
-    kept.push_back(keep);
     setOps_.push_back(std::move(s));
+  }
+  // The set operations of a run whose windows (support and a sample round it) crowd together
+  // share one shift field over the box of their windows: they hold the same bits there (SetOp::
+  // shift), so an offset under a pile of them is added to one field, not to each of its dozens.
+  // A run's next operation joins the group before it while the group's box stays within
+  // kShiftShareSlack times the area of its members' windows (a pile, not a trail across the
+  // sheet). A run that no offset follows yet (a visitor still beating the background) has no
+  // shift: each of its operations keeps a field of its own, all zeros, whose next member costs
+  // nothing to the others; the first offset after it groups them.
+  const double spacing = field_.spacing();
+  std::vector<Box2> groupBox(setOps_.size());  // at each group's first member (its owner)
+  {
+    std::vector<bool> closed(setOps_.size(), false);  // at a run's first member: an offset follows the run
+    for (const SetOp& s : setOps_) closed[s.run] = s.index < lastOffset;
+    size_t g = 0;
+    double windows = 0.0;
+    const auto area = [](const Box2& b) { return (b.x1 - b.x0) * (b.y1 - b.y0); };
+    for (size_t k = 0; k < setOps_.size(); ++k) {
+      const Box2 w = setOps_[k].support.grown(spacing);
+      bool join = k > 0 && setOps_[k].run == setOps_[g].run && closed[setOps_[k].run];
+      if (join) {
+        Box2 u = groupBox[g];
+        u.extend(w.x0, w.y0), u.extend(w.x1, w.y1);
+        join = area(u) <= kShiftShareSlack * (windows + area(w));
+        if (join) groupBox[g] = u, windows += area(w);
+      }
+      if (!join) g = k, groupBox[g] = w, windows = area(w);
+      setOps_[k].owner = static_cast<std::uint32_t>(g);
+    }
+    for (size_t k = 0; k < setOps_.size(); ++k)
+      if (setOps_[k].owner != k) setOps_[k].sharesShift = setOps_[setOps_[k].owner].sharesShift = true;
+  }
+  // A group is kept when the one before had the same members (its owner's field, saved samples).
+  std::vector<bool> kept(setOps_.size(), false);
+  for (size_t k = 0; k < setOps_.size(); ++k) {
+    SetOp& s = setOps_[k];
+    if (s.owner != k) {
+      s.shift = setOps_[s.owner].shift;
+      continue;
+    }
+    while (reuse < old.size() && old[reuse].id != s.id) ++reuse;
+    bool keep = fieldReady_ && !lastSync_.rebuilt && reuse < old.size() && old[reuse].shift && old[reuse].owner == reuse;
+    if (keep) {  // the same members, in order, and no other
+      size_t n = k + 1;
+      while (n < setOps_.size() && setOps_[n].owner == k) ++n;
+      for (size_t m = k; m < n && keep; ++m) {
+        const size_t o = reuse + (m - k);
+        keep = o < old.size() && old[o].id == setOps_[m].id && old[o].owner == reuse;
+      }
+      const size_t after = reuse + (n - k);
+      keep = keep && (after >= old.size() || old[after].owner != reuse);
+    }
+    if (keep) s.shift = old[reuse].shift, s.saved = old[reuse].saved, s.savedId = old[reuse].savedId;
+    else if (fieldReady_) s.shift = std::make_shared<HeightField>();
+    kept[k] = keep;
   }
   std::vector<Box2> supports;
   for (const SetOp& s : setOps_) supports.push_back(s.support);
@@ -316,16 +367,23 @@ void Renderer::syncSetOps(const Model& model) {
       std::vector<const PreparedOp*> list;
       for (int k = t.x; k < t.x + t.w; ++k) {
         SetOp& s = setOps_[static_cast<size_t>(k)];
-        if (!s.shift) continue;
+        if (!s.shift || s.owner != static_cast<std::uint32_t>(k)) continue;
         if (kept[static_cast<size_t>(k)]) {
           followFieldChanges(s, fieldChanges_, inRegion, list);
           continue;
         }
         // Made afresh: the offsets after it, and the rows of the pending append added so far.
+        // None (a run no offset follows yet): every sample is zero.
         HeightField& f = *s.shift;
-        f.configureOn(field_, s.support.grown(field_.spacing()));
-        f.recompute(f.all(), offsetsAfter(s.index, offsetsIn(f.domain(), scratch, s.index + 1), list));
-        if (pending_.active && pending_.index > s.index) {
+        f.configureOn(field_, groupBox[static_cast<size_t>(k)]);
+        const auto after = offsetsAfter(s.index, offsetsIn(f.domain(), scratch, s.index + 1), list);
+        const bool rows = pending_.active && pending_.index > s.index;
+        if (after.empty() && !rows) {
+          f.finishFlat();
+          continue;
+        }
+        f.recompute(f.all(), after);
+        if (rows) {
           const HeightField::SampleRect& r = pending_.r;
           f.add(ops[pending_.index], f.fromLattice(bandRows({r.i0, r.j0, r.i1, pending_.nextRow - 1})));
         }
@@ -408,7 +466,8 @@ void Renderer::followFieldChanges(std::span<const FieldChange> changes, std::spa
   pool_.parallelFor2D(Rect{0, 0, static_cast<int>(setOps_.size()), 1}, 1, [&](const Rect& t) {
     std::vector<const PreparedOp*> list;
     for (int k = t.x; k < t.x + t.w; ++k)
-      if (SetOp& s = setOps_[static_cast<size_t>(k)]; s.shift) followFieldChanges(s, changes, inRegion, list);
+      if (SetOp& s = setOps_[static_cast<size_t>(k)]; s.shift && s.owner == static_cast<std::uint32_t>(k))
+        followFieldChanges(s, changes, inRegion, list);
   });
   refreshSetOpRanges();
   lastSync_.shiftSamplesShared += shiftShared_.exchange(0), lastSync_.shiftSamplesComputed += shiftComputed_.exchange(0);
@@ -417,7 +476,10 @@ void Renderer::followFieldChanges(std::span<const FieldChange> changes, std::spa
 void Renderer::refreshSetOpRanges() {
   for (SetOp& s : setOps_) {
     const Operation& o = model_->operations()[s.index].op();
-    const HeightField::Bound shift = s.shift ? s.shift->rootBound() : HeightField::Bound{};
+    // (A field shared with others reaches past this one's window: bounded over the window.)
+    const HeightField::Bound shift = !s.shift         ? HeightField::Bound{}
+                                     : s.sharesShift ? s.shift->leafBound(s.support.grown(s.shift->spacing()))
+                                                     : s.shift->rootBound();
     const Box3 tb = o.tool.bounds();
     const double reach = kernels::kSupportSpan * o.tool.size();
     s.zlo = tb.z0 - reach + shift.lo;

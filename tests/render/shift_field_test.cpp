@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <set>
 #include <string>
 
 #include "bench/piece_generator.h"
@@ -247,6 +248,108 @@ TEST(ShiftFields, ARunsSetOperationsHoldTheSameBitsWhereTheirSupportsMeet) {
   fresh.renderFull(b);
   EXPECT_EQ(firstDifference(live, fresh), "");
   EXPECT_EQ(firstPixelDifference(a, b), "");
+}
+
+// A run's set operations piled together share one shift field once an offset follows them (the
+// pile's dozens of fields were each given every offset under it); until then each keeps its own,
+// all zeros. A trail across the sheet is not one field. Whatever they share, the fields and the
+// picture are a fresh build's.
+TEST(ShiftFields, APilesSetOperationsShareOneFieldOnceAnOffsetFollowsThem) {
+  PieceOptions opt;
+  opt.width = 60, opt.height = 40;
+  opt.halfThickness = 0.5;
+  GeneratedPiece piece = generatePiece(10, 37, opt);
+  PieceRandom rng(83);
+  const Vec2 pile{-8.0, 2.0};
+  const auto beadAt = [&](double x, double y) {
+    Operation o = randomSetOperation(rng, piece);
+    o.tool.center.x = x, o.tool.center.y = y;
+    return o;
+  };
+  const auto punchAt = [&](double x, double y) {
+    Operation o;
+    o.kind = OpKind::Punch;
+    o.a = 1.8, o.p = 0.4, o.q = 1.0;
+    o.at = {x, y, 0.0};
+    return o;
+  };
+  ThreadPool pool(2), onePool(1);
+  Renderer live(pool);
+  Model model(piece.workpiece, piece.deformation);
+  for (const Operation& op : piece.operations) ASSERT_TRUE(model.add(op).ok());
+  const Camera camera(piece.camera, 96, 64);
+  live.setCamera(camera);
+  live.sync(model);
+  const size_t first = live.setOperationCount();
+  // The pile, bead by bead as a visitor beats it: nothing follows it yet.
+  constexpr size_t kPile = 12;
+  for (size_t k = 0; k < kPile; ++k) {
+    ASSERT_TRUE(model.add(beadAt(pile.x + rng.uniform(-2.0, 2.0), pile.y + rng.uniform(-2.0, 2.0))).ok());
+    live.sync(model);
+  }
+  ASSERT_EQ(live.setOperationCount(), first + kPile);
+  const auto fields = [&](size_t from, size_t n) {
+    std::set<const HeightField*> f;
+    for (size_t k = from; k < from + n; ++k) f.insert(live.shiftField(k));
+    return f.size();
+  };
+  const auto check = [&](const std::string& what) {
+    Renderer fresh(onePool);
+    fresh.setCamera(camera);
+    const Model m = rebuilt(model);
+    fresh.sync(m);
+    EXPECT_EQ(firstDifference(live, fresh), "") << what;
+    Image a, b;
+    live.renderFull(a);
+    fresh.renderFull(b);
+    EXPECT_EQ(firstPixelDifference(a, b), "") << what;
+  };
+  EXPECT_EQ(fields(first, kPile), kPile) << "an open run";
+  check("the pile");
+
+  // A punch under the pile: one field for it, made with the punch; the next punches are added
+  // to that one field, once.
+  ASSERT_TRUE(model.add(punchAt(pile.x + 1.0, pile.y - 0.5)).ok());
+  live.sync(model);
+  EXPECT_EQ(fields(first, kPile), 1u) << "the first offset after the pile";
+  const HeightField* shared = live.shiftField(first);
+  check("a punch under the pile");
+  ASSERT_TRUE(model.add(punchAt(pile.x - 1.5, pile.y + 1.0)).ok());
+  live.sync(model);
+  EXPECT_EQ(live.shiftField(first), shared) << "kept";
+  const long once = static_cast<long>(shared->nx()) * shared->ny();
+  EXPECT_GT(live.lastSync().shiftSamplesShared + live.lastSync().shiftSamplesComputed, 0);
+  EXPECT_LE(live.lastSync().shiftSamplesShared + live.lastSync().shiftSamplesComputed, once);
+  check("a second punch under the pile");
+
+  // A live preview replaced: the shared field puts back what it had under the punch.
+  ASSERT_TRUE(model.undo());
+  ASSERT_TRUE(model.add(punchAt(pile.x - 0.5, pile.y + 1.5)).ok());
+  live.sync(model);
+  EXPECT_EQ(live.shiftField(first), shared);
+  check("a preview replaced over the pile");
+
+  // Both punches undone: the run is open again, a field for each; redone: one again.
+  ASSERT_TRUE(model.undo());
+  ASSERT_TRUE(model.undo());
+  live.sync(model);
+  EXPECT_EQ(fields(first, kPile), kPile) << "the offsets after the pile undone";
+  check("the punches undone");
+  ASSERT_TRUE(model.redo());
+  live.sync(model);
+  EXPECT_EQ(fields(first, kPile), 1u);
+  check("a punch redone");
+
+  // A trail of beads along a diagonal, 9 mm apart, then a punch under it: the box of all of them
+  // would be mostly empty, so they are not one field.
+  constexpr size_t kTrail = 5;
+  const size_t trail = live.setOperationCount();
+  for (size_t k = 0; k < kTrail; ++k) ASSERT_TRUE(model.add(beadAt(-18.0 + 9.0 * k, -16.0 + 9.0 * k)).ok());
+  ASSERT_TRUE(model.add(punchAt(0.0, 2.0)).ok());
+  live.sync(model);
+  EXPECT_GT(fields(trail, kTrail), 1u) << "a trail";
+  EXPECT_LT(fields(trail, kTrail), kTrail) << "neighbours along the trail";
+  check("a trail");
 }
 
 }  // namespace
