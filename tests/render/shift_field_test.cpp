@@ -48,6 +48,15 @@ std::string firstPixelDifference(const Image& a, const Image& b) {
   return {};
 }
 
+// A punch from behind at (x, y), of the same size each time.
+Operation punchAt(double x, double y) {
+  Operation o;
+  o.kind = OpKind::Punch;
+  o.a = 1.8, o.p = 0.4, o.q = 1.0;
+  o.at = {x, y, 0.0};
+  return o;
+}
+
 bool overlapsASetOperation(const Operation& o, const Model& model) {
   const Box2 s = PreparedOp(o).support();
   for (size_t i = 0; i < model.activeCount(); ++i)
@@ -185,13 +194,7 @@ TEST(ShiftFields, ARunsSetOperationsHoldTheSameBitsWhereTheirSupportsMeet) {
     o.tool.center.x = pile.x + rng.uniform(-2.0, 2.0), o.tool.center.y = pile.y + rng.uniform(-2.0, 2.0);
     return o;
   };
-  const auto punchAt = [&](double dx, double dy) {
-    Operation o;
-    o.kind = OpKind::Punch;
-    o.a = 1.8, o.p = 0.4, o.q = 1.0;
-    o.at = {pile.x + dx, pile.y + dy, 0.0};
-    return o;
-  };
+  const auto punchNear = [&](double dx, double dy) { return punchAt(pile.x + dx, pile.y + dy); };
   ThreadPool pool(2);
   Renderer live(pool);
   Model model(piece.workpiece, piece.deformation);
@@ -200,10 +203,10 @@ TEST(ShiftFields, ARunsSetOperationsHoldTheSameBitsWhereTheirSupportsMeet) {
   live.sync(model);
   const size_t first = live.setOperationCount();
   for (int k = 0; k < 6; ++k) ASSERT_TRUE(model.add(bead()).ok());
-  ASSERT_TRUE(model.add(punchAt(1.0, 0.5)).ok());
+  ASSERT_TRUE(model.add(punchNear(1.0, 0.5)).ok());
   for (int k = 0; k < 4; ++k) ASSERT_TRUE(model.add(bead()).ok());
   live.sync(model);  // (the shift fields made afresh)
-  for (int k = 0; k < 5; ++k) ASSERT_TRUE(model.add(punchAt(rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0))).ok());
+  for (int k = 0; k < 5; ++k) ASSERT_TRUE(model.add(punchNear(rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0))).ok());
   live.sync(model);  // (and following the punches)
   ASSERT_EQ(live.setOperationCount(), first + 10);
 
@@ -237,7 +240,7 @@ TEST(ShiftFields, ARunsSetOperationsHoldTheSameBitsWhereTheirSupportsMeet) {
   // And the picture is a fresh render's after the last punch is undone and replaced (the fields
   // put back and followed).
   ASSERT_TRUE(model.undo());
-  ASSERT_TRUE(model.add(punchAt(-1.0, 1.0)).ok());
+  ASSERT_TRUE(model.add(punchNear(-1.0, 1.0)).ok());
   live.sync(model);
   Image a, b;
   live.renderFull(a);
@@ -264,13 +267,6 @@ TEST(ShiftFields, APilesSetOperationsShareOneFieldOnceAnOffsetFollowsThem) {
   const auto beadAt = [&](double x, double y) {
     Operation o = randomSetOperation(rng, piece);
     o.tool.center.x = x, o.tool.center.y = y;
-    return o;
-  };
-  const auto punchAt = [&](double x, double y) {
-    Operation o;
-    o.kind = OpKind::Punch;
-    o.a = 1.8, o.p = 0.4, o.q = 1.0;
-    o.at = {x, y, 0.0};
     return o;
   };
   ThreadPool pool(2), onePool(1);
