@@ -326,7 +326,7 @@ Operation Workbench::fitted(const Operation& op) const {
   for (int k = 0; k < kGrid * kGrid; ++k) {
     const double u = -1.0 + 2.0 * (k % kGrid) / (kGrid - 1), v = -1.0 + 2.0 * (k / kGrid) / (kGrid - 1);
     const double x = c.x + u * h.x, y = c.y + v * h.y;
-    const auto f = [&](double z) { return model_->evaluate(P3<double>{x, y, z}, near); };
+    const Model::Line<double> f(*model_, x, y, near);  // (the offsets under the point summed once)
     // The first crossing into the metal from the tool's top down, and out of it again: the front
     // and back faces there (a step an eighth of the sheet, then bisected).
     const auto crossing = [&](double from, double to, bool inside) -> std::optional<double> {

@@ -22,16 +22,14 @@ constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 class Column {
  public:
   Column(const Model& model, std::span<const std::uint32_t> cand, double x, double y, double tol)
-      : model_(model), cand_(cand), x_(x), y_(y), tol_(tol) {}
+      : box_(model, Interval(x), Interval(y), cand), point_(model, x, y, cand), tol_(tol) {}
 
   // Whether [lo, hi] is proven free of metal.
-  bool empty(double lo, double hi) const {
-    return lo >= hi || model_.evaluate(P3<Interval>{Interval(x_), Interval(y_), {lo, hi}}, cand_).hi < 0.0;
-  }
+  bool empty(double lo, double hi) const { return lo >= hi || box_(Interval{lo, hi}).hi < 0.0; }
 
   // The highest z in [lo, hi] where the model is >= 0 (metal), or NaN.
   double top(double lo, double hi) {
-    const Interval f = model_.evaluate(P3<Interval>{Interval(x_), Interval(y_), {lo, hi}}, cand_);
+    const Interval f = box_(Interval{lo, hi});
     if (f.hi < 0.0) return kNone;
     if (f.lo >= 0.0) return hi;
     if (hi - lo <= tol_) return leaf(lo, hi);
@@ -41,7 +39,7 @@ class Column {
   }
 
  private:
-  double at(double z) const { return model_.evaluate(P3<double>{x_, y_, z}, cand_); }
+  double at(double z) const { return point_(z); }
 
   double leaf(double lo, double hi) {
     constexpr int kSteps = 4;
@@ -62,9 +60,10 @@ class Column {
     return kNone;
   }
 
-  const Model& model_;
-  std::span<const std::uint32_t> cand_;
-  double x_, y_, tol_;
+  // f down the column, the offsets under it summed once for each (Model::Line).
+  const Model::Line<Interval> box_;
+  const Model::Line<double> point_;
+  double tol_;
 };
 
 }  // namespace

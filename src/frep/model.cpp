@@ -119,6 +119,34 @@ T Model::evaluate(const P3<T>& p, std::span<const std::uint32_t> candidates) con
 }
 
 template <class T>
+Model::Line<T>::Line(const Model& model, const T& x, const T& y, std::span<const std::uint32_t> candidates)
+    : model_(&model), x_(x), y_(y), candidates_(candidates), sheet_(model.deformation_ == Deformation::Sheet) {
+  if (!sheet_) return;
+  // evaluateWith()'s first pass, its z unread (a sheet's offsets are functions of x and y).
+  const P3<T> p{x, y, T(0.0)};
+  std::vector<T> prefix;
+  for (std::uint32_t i : candidates) {
+    const PreparedOp& op = model.ops_[i];
+    if (op.op().isOffset()) {
+      total_ += op.offset(p, Deformation::Sheet);
+    } else if (op.op().isSet()) {
+      sets_.push_back({i, T(0.0)});
+      prefix.push_back(total_);
+    }
+  }
+  for (size_t k = 0; k < sets_.size(); ++k) sets_[k].shift = total_ - prefix[k];
+}
+
+template <class T>
+T Model::Line<T>::operator()(const T& z) const {
+  if (!sheet_) return model_->evaluate(P3<T>{x_, y_, z}, candidates_);
+  // evaluateWith()'s second pass, in its arithmetic.
+  T f = model_->workpiece_->value(P3<T>{x_, y_, z - total_});
+  for (const SetStep& s : sets_) f = model_->ops_[s.op].combine(f, P3<T>{x_, y_, z - s.shift});
+  return f;
+}
+
+template <class T>
 T Model::displacement(const T& x, const T& y, const T& z, std::span<const std::uint32_t> candidates) const {
   T total(0.0);
   const P3<T> p{x, y, z};
@@ -173,6 +201,8 @@ template Interval Model::evaluate(const P3<Interval>&) const;
 template double Model::evaluate(const P3<double>&, std::span<const std::uint32_t>) const;
 template Grad Model::evaluate(const P3<Grad>&, std::span<const std::uint32_t>) const;
 template Interval Model::evaluate(const P3<Interval>&, std::span<const std::uint32_t>) const;
+template class Model::Line<double>;
+template class Model::Line<Interval>;
 template double Model::displacement(const double&, const double&, const double&, std::span<const std::uint32_t>) const;
 template Interval Model::displacement(const Interval&, const Interval&, const Interval&, std::span<const std::uint32_t>) const;
 

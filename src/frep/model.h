@@ -55,6 +55,31 @@ class Model {
   void evaluate(std::span<const P3<double>> points, std::span<double> out) const;
   void evaluateGradient(std::span<const P3<double>> points, std::span<Grad> out) const;
 
+  // f along the vertical line through (x, y) with the listed operations (as evaluate(p,
+  // candidates), whose rule the list follows; the line reads it, so it must outlive the line).
+  // Under the sheet model every offset moves space along z by a function of (x, y) alone: their
+  // sum, and the shift each set operation sees, are found once for the line, and a value at a z
+  // after that costs the workpiece and the set operations alone. The same bits as evaluate() at
+  // every z. (A column searched for its faces: a flat tool's fit, a height map's pixel.)
+  template <class T>
+  class Line {
+   public:
+    Line(const Model& model, const T& x, const T& y, std::span<const std::uint32_t> candidates);
+    T operator()(const T& z) const;
+
+   private:
+    const Model* model_;
+    T x_, y_;
+    std::span<const std::uint32_t> candidates_;
+    bool sheet_;
+    T total_{0.0};  // the offsets' sum (the sheet model)
+    struct SetStep {
+      std::uint32_t op;
+      T shift;  // the offsets after it
+    };
+    std::vector<SetStep> sets_;
+  };
+
   // The sum of the active offsets at (x, y): the sheet's displacement D (sheet model) in mm.
   template <class T>
   T displacement(const T& x, const T& y, const T& z, std::span<const std::uint32_t> candidates) const;
@@ -80,5 +105,7 @@ extern template Interval Model::evaluate(const P3<Interval>&) const;
 extern template double Model::evaluate(const P3<double>&, std::span<const std::uint32_t>) const;
 extern template Grad Model::evaluate(const P3<Grad>&, std::span<const std::uint32_t>) const;
 extern template Interval Model::evaluate(const P3<Interval>&, std::span<const std::uint32_t>) const;
+extern template class Model::Line<double>;
+extern template class Model::Line<Interval>;
 
 }  // namespace emboss

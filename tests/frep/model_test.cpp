@@ -1,6 +1,7 @@
 // The model: undo and redo, gradients, interval bounds, and the index against the naive evaluation.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <memory>
 #include <random>
 
@@ -177,6 +178,42 @@ TEST(Model, IndexedEvaluationEqualsNaiveBitForBit) {
       const P3<double> p{px(rng), py(rng), pz(rng)};
       EXPECT_EQ(m.evaluate(p, grid.at(p.x, p.y, scratch)), m.evaluate(p));
     }
+  }
+}
+
+// A vertical line's values (the offsets under it summed once) are evaluate()'s bits at every z,
+// in both deformation models, for points and for intervals along z: over a dense relief, with
+// the line's candidates those of its column, and with every active operation.
+TEST(Model, AVerticalLineGivesEvaluatesBitsAtEveryHeight) {
+  for (Deformation def : {Deformation::Sheet, Deformation::Offset}) {
+    Model m(std::make_shared<Plate>(40, 30, 0.5), def);
+    for (const auto& op : randomOps(23, 300, 35)) ASSERT_TRUE(m.add(op));
+    OpGrid grid;
+    grid.sync(m);
+    std::vector<std::uint32_t> all(m.activeCount()), scratch;
+    for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> px(-45, 45), py(-35, 35), pz(-4, 4), dz(0.0, 0.5);
+    int sets = 0;
+    for (int i = 0; i < 200; ++i) {
+      const double x = px(rng), y = py(rng);
+      const std::span<const std::uint32_t> cell = grid.at(x, y, scratch);
+      const std::vector<std::uint32_t> near(cell.begin(), cell.end());
+      for (const auto& list : {std::span<const std::uint32_t>(near), std::span<const std::uint32_t>(all)}) {
+        const Model::Line<double> line(m, x, y, list);
+        const Model::Line<Interval> box(m, Interval(x), Interval(y), list);
+        for (int k = 0; k < 20; ++k) {
+          const double z = pz(rng), w = dz(rng);
+          const double a = line(z), b = m.evaluate(P3<double>{x, y, z}, list);
+          ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "at " << x << ", " << y << ", " << z;
+          const Interval c = box(Interval(z, z + w)), d = m.evaluate(P3<Interval>{Interval(x), Interval(y), Interval(z, z + w)}, list);
+          ASSERT_EQ(std::memcmp(&c.lo, &d.lo, sizeof c.lo), 0) << "at " << x << ", " << y << ", " << z;
+          ASSERT_EQ(std::memcmp(&c.hi, &d.hi, sizeof c.hi), 0) << "at " << x << ", " << y << ", " << z;
+        }
+      }
+      for (std::uint32_t k : near) sets += m.operations()[k].op().isSet() && m.operations()[k].support().overlaps(Box2{x, y, x, y});
+    }
+    EXPECT_GT(sets, 25) << "lines through set operations";
   }
 }
 
