@@ -382,12 +382,29 @@ void Renderer::syncSetOps(const Model& model) {
           f.finishFlat();
           continue;
         }
-        f.recompute(f.all(), after);
+        // Flat, then the offsets after it added where they reach and finished there: the bits that
+        // summing every sample again and finishing all() give, without visiting the samples none
+        // of them reaches (a pile's field, made when the first offset follows the pile, spans the
+        // pile; that offset, as a rule, is a stroke across part of it).
+        f.finishFlat();
+        HeightField::SampleRect touched;
+        const auto touch = [&](const HeightField::SampleRect& r) {
+          if (r.empty()) return;
+          touched = touched.empty() ? r
+                                    : HeightField::SampleRect{std::min(touched.i0, r.i0), std::min(touched.j0, r.j0),
+                                                              std::max(touched.i1, r.i1), std::max(touched.j1, r.j1)};
+        };
+        for (const PreparedOp* op : after) {
+          f.add(*op, f.all());
+          touch(f.samplesIn(op->support()));
+        }
         if (rows) {
           const HeightField::SampleRect& r = pending_.r;
-          f.add(ops[pending_.index], f.fromLattice(bandRows({r.i0, r.j0, r.i1, pending_.nextRow - 1})));
+          const HeightField::SampleRect band = f.fromLattice(bandRows({r.i0, r.j0, r.i1, pending_.nextRow - 1}));
+          f.add(ops[pending_.index], band);
+          touch(HeightField::intersect(f.samplesIn(ops[pending_.index].support()), band));
         }
-        f.finish(f.all());
+        f.finish(touched);
       }
     });
   }

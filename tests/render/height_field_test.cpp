@@ -191,6 +191,61 @@ TEST(HeightField, FlatFinishEqualsAFullBuildOfABareSheet) {
   EXPECT_GE(whole.hi, 0.0);
 }
 
+// A field made flat, then added to by a few offsets and finished over the samples they reach (a
+// set operation's shift field made when the first offset follows its pile) holds the samples and
+// gives the bounds of one summed over every sample and finished everywhere.
+TEST(HeightField, AFlatFieldAddedToWhereOffsetsReachEqualsOneSummedEverywhere) {
+  const GeneratedPiece piece = densePiece(120, 11);
+  const Model model = SyncedPiece::modelOf(piece);
+  HeightField lattice;
+  lattice.configure(Box2{-55.0, -40.0, 55.0, 40.0}, 0.125);
+  std::vector<const PreparedOp*> offsets;
+  for (size_t i = 0; i < model.activeCount(); ++i)
+    if (model.operations()[i].op().isOffset()) offsets.push_back(&model.operations()[i]);
+  ASSERT_GT(offsets.size(), 40u);
+  const Box2 domain{-21.7, -13.2, 18.4, 15.9};
+  std::mt19937 rng(13);
+  for (const size_t n : {size_t{1}, size_t{3}, size_t{12}}) {
+    // n offsets, some of whose supports reach past the field or miss it.
+    std::vector<const PreparedOp*> after;
+    for (size_t k = 0; k < n; ++k) after.push_back(offsets[rng() % offsets.size()]);
+    std::sort(after.begin(), after.end());
+    after.erase(std::unique(after.begin(), after.end()), after.end());
+    HeightField summed, added;
+    summed.configureOn(lattice, domain);
+    summed.recompute(summed.all(), after);
+    summed.finish(summed.all());
+    added.configureOn(lattice, domain);
+    added.finishFlat();
+    HeightField::SampleRect touched;
+    for (const PreparedOp* op : after) {
+      added.add(*op, added.all());
+      const HeightField::SampleRect r = added.samplesIn(op->support());
+      if (r.empty()) continue;
+      touched = touched.empty() ? r
+                                : HeightField::SampleRect{std::min(touched.i0, r.i0), std::min(touched.j0, r.j0),
+                                                          std::max(touched.i1, r.i1), std::max(touched.j1, r.j1)};
+    }
+    ASSERT_FALSE(touched.empty());
+    ASSERT_LT(touched.count(), added.all().count()) << "the offsets reach part of the field";
+    added.finish(touched);
+    SCOPED_TRACE(std::to_string(after.size()) + " offsets");
+    expectSameSamples(added, summed);
+    std::uniform_real_distribution<double> x(domain.x0, domain.x1), y(domain.y0, domain.y1), size(0.01, 30.0);
+    for (int k = 0; k < 2000; ++k) {
+      const double x0 = x(rng), y0 = y(rng);
+      const Box2 b{x0, y0, std::min(domain.x1, x0 + size(rng)), std::min(domain.y1, y0 + size(rng))};
+      const HeightField::Bound p = added.bound(b), q = summed.bound(b);
+      ASSERT_EQ(p.lo, q.lo);
+      ASSERT_EQ(p.hi, q.hi);
+      ASSERT_EQ(p.gxlo, q.gxlo);
+      ASSERT_EQ(p.gxhi, q.gxhi);
+      ASSERT_EQ(p.gylo, q.gylo);
+      ASSERT_EQ(p.gyhi, q.gyhi);
+    }
+  }
+}
+
 // The cavity depth the field keeps per sample and interpolates is the shading's ring of six
 // (shading.h, cavityAt) over the bilinear D, within a small part of the depth that darkens by half,
 // inside the lattice and at its edges (where the ring is clamped to the domain), and the fields
