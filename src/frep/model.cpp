@@ -123,18 +123,16 @@ Model::Line<T>::Line(const Model& model, const T& x, const T& y, std::span<const
     : model_(&model), x_(x), y_(y), candidates_(candidates), sheet_(model.deformation_ == Deformation::Sheet) {
   if (!sheet_) return;
   // evaluateWith()'s first pass, its z unread (a sheet's offsets are functions of x and y).
+  // Each set operation's running sum first (evaluateWith()'s prefix), its shift once the sum is whole.
   const P3<T> p{x, y, T(0.0)};
-  std::vector<T> prefix;
   for (std::uint32_t i : candidates) {
     const PreparedOp& op = model.ops_[i];
-    if (op.op().isOffset()) {
+    if (op.op().isOffset())
       total_ += op.offset(p, Deformation::Sheet);
-    } else if (op.op().isSet()) {
-      sets_.push_back({i, T(0.0)});
-      prefix.push_back(total_);
-    }
+    else if (op.op().isSet())
+      sets_.push_back({i, total_});
   }
-  for (size_t k = 0; k < sets_.size(); ++k) sets_[k].shift = total_ - prefix[k];
+  for (SetStep& s : sets_) s.shift = total_ - s.shift;
 }
 
 template <class T>

@@ -133,6 +133,12 @@ HeightField::SampleRect HeightField::grow(const SampleRect& r, int n) {
   return {r.i0 - n, r.j0 - n, r.i1 + n, r.j1 + n};
 }
 
+HeightField::SampleRect HeightField::unite(const SampleRect& a, const SampleRect& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  return {std::min(a.i0, b.i0), std::min(a.j0, b.j0), std::max(a.i1, b.i1), std::max(a.j1, b.j1)};
+}
+
 HeightField::SampleRect HeightField::clamp(const SampleRect& r) const { return intersect(r, all()); }
 
 namespace {

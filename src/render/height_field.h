@@ -77,6 +77,8 @@ class HeightField {
   SampleRect samplesIn(const Box2& b) const;
   static SampleRect intersect(const SampleRect& a, const SampleRect& b);
   static SampleRect grow(const SampleRect& r, int n);
+  // The smallest rectangle holding both (an empty one holds nothing).
+  static SampleRect unite(const SampleRect& a, const SampleRect& b);
   SampleRect clamp(const SampleRect& r) const;
 
   // An offset's values (D and its slopes, before they are rounded into a sample) at the samples of

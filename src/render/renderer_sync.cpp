@@ -388,21 +388,15 @@ void Renderer::syncSetOps(const Model& model) {
         // pile; that offset, as a rule, is a stroke across part of it).
         f.finishFlat();
         HeightField::SampleRect touched;
-        const auto touch = [&](const HeightField::SampleRect& r) {
-          if (r.empty()) return;
-          touched = touched.empty() ? r
-                                    : HeightField::SampleRect{std::min(touched.i0, r.i0), std::min(touched.j0, r.j0),
-                                                              std::max(touched.i1, r.i1), std::max(touched.j1, r.j1)};
-        };
         for (const PreparedOp* op : after) {
           f.add(*op, f.all());
-          touch(f.samplesIn(op->support()));
+          touched = HeightField::unite(touched, f.samplesIn(op->support()));
         }
         if (rows) {
           const HeightField::SampleRect& r = pending_.r;
           const HeightField::SampleRect band = f.fromLattice(bandRows({r.i0, r.j0, r.i1, pending_.nextRow - 1}));
           f.add(ops[pending_.index], band);
-          touch(HeightField::intersect(f.samplesIn(ops[pending_.index].support()), band));
+          touched = HeightField::unite(touched, HeightField::intersect(f.samplesIn(ops[pending_.index].support()), band));
         }
         f.finish(touched);
       }

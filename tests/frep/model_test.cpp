@@ -152,10 +152,16 @@ TEST(Model, IntervalBoundsContainEverySample) {
   }
 }
 
+// A 40 x 30 mm plate under 300 random operations (randomOps(seed)).
+Model denseRelief(Deformation def, unsigned seed) {
+  Model m(std::make_shared<Plate>(40, 30, 0.5), def);
+  for (const auto& op : randomOps(seed, 300, 35)) EXPECT_TRUE(m.add(op));
+  return m;
+}
+
 TEST(Model, IndexedEvaluationEqualsNaiveBitForBit) {
   for (Deformation def : {Deformation::Sheet, Deformation::Offset}) {
-    Model m(std::make_shared<Plate>(40, 30, 0.5), def);
-    for (const auto& op : randomOps(21, 300, 35)) ASSERT_TRUE(m.add(op));
+    Model m = denseRelief(def, 21);
     OpGrid grid;
     grid.sync(m);
     std::mt19937 rng(9);
@@ -186,8 +192,7 @@ TEST(Model, IndexedEvaluationEqualsNaiveBitForBit) {
 // the line's candidates those of its column, and with every active operation.
 TEST(Model, AVerticalLineGivesEvaluatesBitsAtEveryHeight) {
   for (Deformation def : {Deformation::Sheet, Deformation::Offset}) {
-    Model m(std::make_shared<Plate>(40, 30, 0.5), def);
-    for (const auto& op : randomOps(23, 300, 35)) ASSERT_TRUE(m.add(op));
+    const Model m = denseRelief(def, 23);
     OpGrid grid;
     grid.sync(m);
     std::vector<std::uint32_t> all(m.activeCount()), scratch;

@@ -94,6 +94,23 @@ void expectSameSamples(const HeightField& a, const HeightField& b) {
     }
 }
 
+// The very same bounds (of D and its slopes) from two fields over 2000 random boxes in `domain`,
+// each side up to `largest` mm.
+void expectSameBounds(const HeightField& a, const HeightField& b, const Box2& domain, double largest, std::mt19937& rng) {
+  std::uniform_real_distribution<double> x(domain.x0, domain.x1), y(domain.y0, domain.y1), size(0.01, largest);
+  for (int k = 0; k < 2000; ++k) {
+    const double x0 = x(rng), y0 = y(rng);
+    const Box2 box{x0, y0, std::min(domain.x1, x0 + size(rng)), std::min(domain.y1, y0 + size(rng))};
+    const HeightField::Bound p = a.bound(box), q = b.bound(box);
+    ASSERT_EQ(p.lo, q.lo);
+    ASSERT_EQ(p.hi, q.hi);
+    ASSERT_EQ(p.gxlo, q.gxlo);
+    ASSERT_EQ(p.gxhi, q.gxhi);
+    ASSERT_EQ(p.gylo, q.gylo);
+    ASSERT_EQ(p.gyhi, q.gyhi);
+  }
+}
+
 // Appends, undos (recomputed from scratch under the support), redos and replacing the redo tail
 // give the very bits of a field built at once.
 TEST(HeightField, IncrementalUpdatesEqualAFullBuildBitForBit) {
@@ -174,18 +191,7 @@ TEST(HeightField, FlatFinishEqualsAFullBuildOfABareSheet) {
   flat.finishFlat();
   expectSameSamples(flat, built);
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> x(domain.x0, domain.x1), y(domain.y0, domain.y1), size(0.01, 80.0);
-  for (int k = 0; k < 2000; ++k) {
-    const double x0 = x(rng), y0 = y(rng);
-    const Box2 b{x0, y0, std::min(domain.x1, x0 + size(rng)), std::min(domain.y1, y0 + size(rng))};
-    const HeightField::Bound p = flat.bound(b), q = built.bound(b);
-    ASSERT_EQ(p.lo, q.lo);
-    ASSERT_EQ(p.hi, q.hi);
-    ASSERT_EQ(p.gxlo, q.gxlo);
-    ASSERT_EQ(p.gxhi, q.gxhi);
-    ASSERT_EQ(p.gylo, q.gylo);
-    ASSERT_EQ(p.gyhi, q.gyhi);
-  }
+  expectSameBounds(flat, built, domain, 80.0, rng);
   const HeightField::Bound whole = flat.bound(domain);
   EXPECT_LE(whole.lo, 0.0);
   EXPECT_GE(whole.hi, 0.0);
@@ -220,29 +226,14 @@ TEST(HeightField, AFlatFieldAddedToWhereOffsetsReachEqualsOneSummedEverywhere) {
     HeightField::SampleRect touched;
     for (const PreparedOp* op : after) {
       added.add(*op, added.all());
-      const HeightField::SampleRect r = added.samplesIn(op->support());
-      if (r.empty()) continue;
-      touched = touched.empty() ? r
-                                : HeightField::SampleRect{std::min(touched.i0, r.i0), std::min(touched.j0, r.j0),
-                                                          std::max(touched.i1, r.i1), std::max(touched.j1, r.j1)};
+      touched = HeightField::unite(touched, added.samplesIn(op->support()));
     }
     ASSERT_FALSE(touched.empty());
     ASSERT_LT(touched.count(), added.all().count()) << "the offsets reach part of the field";
     added.finish(touched);
     SCOPED_TRACE(std::to_string(after.size()) + " offsets");
     expectSameSamples(added, summed);
-    std::uniform_real_distribution<double> x(domain.x0, domain.x1), y(domain.y0, domain.y1), size(0.01, 30.0);
-    for (int k = 0; k < 2000; ++k) {
-      const double x0 = x(rng), y0 = y(rng);
-      const Box2 b{x0, y0, std::min(domain.x1, x0 + size(rng)), std::min(domain.y1, y0 + size(rng))};
-      const HeightField::Bound p = added.bound(b), q = summed.bound(b);
-      ASSERT_EQ(p.lo, q.lo);
-      ASSERT_EQ(p.hi, q.hi);
-      ASSERT_EQ(p.gxlo, q.gxlo);
-      ASSERT_EQ(p.gxhi, q.gxhi);
-      ASSERT_EQ(p.gylo, q.gylo);
-      ASSERT_EQ(p.gyhi, q.gyhi);
-    }
+    expectSameBounds(added, summed, domain, 30.0, rng);
   }
 }
 
