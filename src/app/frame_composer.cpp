@@ -306,12 +306,14 @@ void FrameComposer::traceCoarse(const PixelSpans& spans, std::vector<Rect>& chan
   const bool done = renderer_->render(low_, low, &st);
   renderer_->setDeadline(std::nullopt);
   const double ms = msSince(t0);
-  // A low pixel's cost: over the picture's pixels, or over the rays it traced when it stopped.
-  const double perPx = done ? ms / std::max(1.0, static_cast<double>(low.area()))
-                            : ms / std::max(1.0, static_cast<double>(st.rays));
-  coarseMsPerPx_ = !done ? std::max(coarseMsPerPx_, perPx) : coarseMsPerPx_ > 0 ? 0.5 * (coarseMsPerPx_ + perPx) : perPx;
-  // Its exact pixels will cost about what a coarse ray cost here (at least).
-  bandMsPerPx_ = std::max(bandMsPerPx_, perPx);
+  // A low pixel's cost: over the picture's pixels, or over the rays it traced when it stopped
+  // (none: the time went before the first ray, and says nothing of a ray's cost).
+  if (done || st.rays > 0) {
+    const double perPx = done ? ms / std::max(1.0, static_cast<double>(low.area())) : ms / static_cast<double>(st.rays);
+    coarseMsPerPx_ = !done ? std::max(coarseMsPerPx_, perPx) : coarseMsPerPx_ > 0 ? 0.5 * (coarseMsPerPx_ + perPx) : perPx;
+    // Its exact pixels will cost about what a coarse ray cost here (at least).
+    bandMsPerPx_ = std::max(bandMsPerPx_, perPx);
+  }
   if (!done) {
     ++counters_.coarseStopped;
     std::tie(lw, lh, low) = lowRect(kMaxCoarseScale);

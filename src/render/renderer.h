@@ -118,6 +118,9 @@ class Renderer {
   // render). Appends cost the new operation's support; undo recomputes the samples under it.
   void sync(const Model& model);
   void setCamera(const Camera& camera);
+  // How many backdrops setCamera() has computed: one per picture size, unless that size has
+  // fallen out of the kept ones (backdrops_).
+  size_t backdropsMade() const { return backdropsMade_; }
   // Also builds the metal's shading tables on the pool the first time a metal is seen.
   void setShading(const ShadingParams& shading) {
     shading_ = shading;
@@ -445,12 +448,17 @@ class Renderer {
   std::vector<std::uint8_t> hits_;
   // The backdrop of a picture's size, 3 bytes a pixel (it never changes): [0] the camera's, then
   // the sizes before by last use (the frame's while a preview or a coarse picture is traced), so
-  // that going back and forth between them computes none again.
+  // that going back and forth between them computes none again. As many as the sizes a kiosk
+  // traces at: the frame's, its preview's, and a coarse picture's at each scale it takes (2 to 16
+  // pixels a ray: a scale not kept cost the pen's step up to 2 ms a picture, its rays none; the
+  // coarse ones together hold under 2 MB).
   struct Backdrop {
     int w = 0, h = 0;
     std::vector<std::uint8_t> bytes;
   };
-  Backdrop backdrops_[3];
+  static constexpr size_t kBackdropSizes = 20;
+  Backdrop backdrops_[kBackdropSizes];
+  size_t backdropsMade_ = 0;
 
   // The field tracer's state.
   HeightField field_;

@@ -55,6 +55,7 @@ void Renderer::setCamera(const Camera& camera) {
   const int w = camera.width(), h = camera.height();
   if (toFront(backdrops_, [&](const Backdrop& k) { return k.w == w && k.h == h && !k.bytes.empty(); })) return;
   Backdrop& b = backdrops_[0];
+  ++backdropsMade_;
   b.w = w, b.h = h;
   b.bytes.assign(static_cast<size_t>(w) * h * 3, 0);
   std::uint8_t* const bytes = b.bytes.data();

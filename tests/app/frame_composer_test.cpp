@@ -328,6 +328,37 @@ TEST(FrameComposer, ACoarsePictureThatOverrunsItsBudgetShowsTheCoarsest) {
   EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
 }
 
+// A coarse picture stopped before its first ray (its time spent before the tracing) says nothing
+// of what a ray costs: the next one is traced at the preview's scale as before, not made as
+// coarse as it goes (a milliseconds-long wait before the first ray had counted as one ray's cost).
+TEST(FrameComposer, ACoarsePictureStoppedBeforeItsFirstRayLeavesTheNextAtThePreviewsScale) {
+  PlateOnScreen t;
+  auto& [pool, fc, m, home, sh] = t;
+  constexpr int w = PlateOnScreen::w, h = PlateOnScreen::h;
+  std::vector<Rect> changed;
+  fc.setDirtyBudget(0.05);        // every region is shown coarse
+  fc.setLeastBudgets(1.0, 1e-6);  // and the first coarse picture stops before it traces a ray
+  fc.setFieldBandMs(0);
+  ASSERT_TRUE(m.add(raisedRectangle(18, 12)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  const std::uint64_t raysBefore = fc.counters().render.rays;
+  fc.work(1000.0, changed, true);
+  ASSERT_EQ(fc.counters().coarseStopped, 1u);
+  // (the coarsest picture shown instead traced its rays)
+  EXPECT_GT(fc.counters().render.rays, raysBefore);
+  fc.flush(changed);
+  fc.setLeastBudgets(1.0, 1e9);  // the next coarse picture is never stopped
+  ASSERT_TRUE(m.add(raisedRectangle(17, 11)));
+  fc.show(m, home, sh, {false, false, {m.activeCount() - 1}}, false);
+  fc.work(1000.0, changed, true);
+  EXPECT_EQ(fc.counters().coarseRects, 2u);
+  EXPECT_EQ(fc.counters().coarseStopped, 1u);
+  EXPECT_EQ(fc.lastCoarseScale(), fc.previewScale());
+  EXPECT_LT(fc.lastCoarseScale(), FrameComposer::kMaxCoarseScale);
+  fc.flush(changed);
+  EXPECT_EQ(fc.frame().rgba, fullRender(pool, m, home, sh, w, h).rgba);
+}
+
 // A visitor's step that spent its frame before the tracing (a raised region's field over a pile
 // of set operations) leaves the dirty rectangles less than their budget: work()'s presentBy. Past
 // it, a stroke that would be traced exactly within the budget is shown coarse.

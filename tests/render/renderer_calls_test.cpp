@@ -105,6 +105,37 @@ TEST(RenderAntialias, OffTracesOneRayAPixelAndDiffersOnlyAtEdges) {
   EXPECT_EQ(again.rgba, smooth.rgba);
 }
 
+// The kiosk's frame, its preview and its coarse pictures at every scale they take (2 to 16 pixels
+// a ray): each size's backdrop is computed once, and going back to any of them computes none (a
+// coarse picture at a scale no longer kept spent up to 2 ms of the pen's step on it). The pictures
+// are the same bytes as a renderer that saw only their own size.
+TEST(RendererBackdrops, EverySizeAKioskTracesAtIsComputedOnce) {
+  const GeneratedPiece piece = smallPiece(20, 37);
+  auto built = piece.makeModel();
+  ASSERT_TRUE(built.ok()) << built.error();
+  const Model& model = *built;
+  ThreadPool pool(2);
+  Renderer r(pool);
+  const Camera frame(piece.camera, 640, 400);
+  lookAt(r, model, frame);
+  EXPECT_EQ(r.backdropsMade(), 1u);
+  for (int round = 0; round < 2; ++round)
+    for (int scale = 2; scale <= 16; ++scale) {
+      r.setCamera(Camera(piece.camera, 640 / scale, 400 / scale));
+      r.setCamera(frame);
+    }
+  EXPECT_EQ(r.backdropsMade(), 16u) << "the frame's and 15 scales', each once";
+  // A picture at a kept size is its own size's picture.
+  const Camera low(piece.camera, 640 / 5, 400 / 5);
+  r.setCamera(low);
+  Image kept, fresh;
+  ASSERT_TRUE(r.renderFull(kept));
+  Renderer alone(pool);
+  lookAt(alone, model, low);
+  ASSERT_TRUE(alone.renderFull(fresh));
+  EXPECT_EQ(kept.rgba, fresh.rgba);
+}
+
 TEST(RendererPick, FindsTheModelsSurfaceAndDeclinesWhenBehind) {
   const GeneratedPiece piece = smallPiece(60, 31);
   auto built = piece.makeModel();
