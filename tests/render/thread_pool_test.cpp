@@ -1,9 +1,10 @@
-// The fixed thread pool: every tile once, workers reused, cancellation of a frame in flight.
+// The fixed thread pool: every tile once (one job, many back to back), workers reused, cancellation.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <functional>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -43,6 +44,35 @@ TEST(ThreadPool, KeepsItsThreadsAcrossJobs) {
   // The caller and one worker, never a new thread per job.
   EXPECT_LE(seen.size(), 2u);
   EXPECT_EQ(pool.jobsRun(), 50u);
+}
+
+// Jobs one right after another, as a render's passes and a pen's steps come, of one tile to
+// more than the threads: every tile of every job runs once, none after its job returned (a
+// worker that wakes late must find the job closed).
+TEST(ThreadPool, JobsBackToBackRunEveryTileOnceNoneAfterItsJobReturned) {
+  ThreadPool pool(3);
+  constexpr int kJobs = 4000, kMaxTiles = 9;
+  // Job j's tiles are the columns j * kMaxTiles + [0, tiles): each counted where it ran.
+  std::vector<std::atomic<int>> runs(static_cast<size_t>(kJobs) * kMaxTiles);
+  std::atomic<int> returned{-1};  // the last job returned
+  std::atomic<int> lateTiles{0};
+  const std::function<void(const Rect&)> tile = [&](const Rect& t) {
+    if (t.x / kMaxTiles <= returned.load()) ++lateTiles;
+    ++runs[static_cast<size_t>(t.x)];
+    const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(20);
+    while (std::chrono::steady_clock::now() < until) {
+    }
+  };
+  const auto tilesOf = [](int j) { return 1 + j % kMaxTiles; };
+  for (int j = 0; j < kJobs; ++j) {
+    ASSERT_TRUE(pool.parallelFor2D(Rect{j * kMaxTiles, 0, tilesOf(j), 1}, 1, tile));
+    returned = j;
+  }
+  for (int j = 0; j < kJobs; ++j)
+    for (int k = 0; k < kMaxTiles; ++k)
+      ASSERT_EQ(runs[static_cast<size_t>(j) * kMaxTiles + k].load(), k < tilesOf(j) ? 1 : 0) << "job " << j << " tile " << k;
+  EXPECT_EQ(lateTiles.load(), 0);
+  EXPECT_EQ(pool.jobsRun(), static_cast<std::uint64_t>(kJobs));
 }
 
 TEST(ThreadPool, CancelledBeforeStartRunsNothing) {
