@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -450,8 +451,13 @@ int benchMain(const std::string& out, int threads, bool quick, const std::string
   std::string text = table(rows, s, cores, baseline, stealSentence(hostBefore, readHostCpuTimes()));
   if (!kioskRecording.empty()) {
     std::string error;
-    KioskBenchOptions ko{kioskRecording, kioskLoops, threads, quick, s.width, s.height, {}};
+    KioskBenchOptions ko{kioskRecording, kioskLoops, threads, quick, s.width, s.height, {}, {}};
     if (baseline.program) ko.baselineFrame = [&] { return baseline.frame(pool); };
+    // Beside the report: bench.md keeps the sheet as bench-sheet.json and bench-sheet.png.
+    if (!out.empty()) {
+      const std::filesystem::path report(out);
+      ko.keepSheet = (report.parent_path() / (report.stem().string() + "-sheet")).string();
+    }
     const std::string kiosk = kioskBench(ko, error);
     if (kiosk.empty()) {
       std::fprintf(stderr, "emboss bench: kiosk: %s\n", error.c_str());

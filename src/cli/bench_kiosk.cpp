@@ -211,6 +211,7 @@ struct SheetFrames {
   size_t operations = 0, setOperations = 0, patina = 0;
   int frames = 0;
   double ms = 0, baselineMs = 0;  // medians
+  std::string kept;               // what was kept of it (KioskBenchOptions::keepSheet), or why not
 };
 
 double medianOf(std::vector<double> v) {
@@ -261,6 +262,18 @@ bool sheetFrames(const fs::path& sessions, const KioskBenchOptions& o, SheetFram
     wall.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t).count());
   }
   out.ms = medianOf(wall), out.baselineMs = medianOf(base);
+  if (!o.keepSheet.empty()) {
+    // A figure to look at and to time again: the scene and the picture it was timed on.
+    const fs::path json = o.keepSheet + ".json", png = o.keepSheet + ".png";
+    fs::copy_file(newest, json, fs::copy_options::overwrite_existing, ec);
+    if (ec)
+      out.kept = "could not be kept (" + json.filename().string() + ": " + ec.message() + ")";
+    else if (const Status written = writePng(image, png); !written)
+      out.kept = "could not be kept (" + written.error() + ")";
+    else
+      out.kept = "kept as " + json.filename().string() + " (the session the kiosk saved) and " + png.filename().string() +
+                 " (the full frame timed)";
+  }
   return true;
 }
 
@@ -386,6 +399,7 @@ std::string kioskBench(const KioskBenchOptions& o, std::string& error) {
        fmt("%.1f", seconds) + " s) | >= 30 fps | " + met(pace >= 30.0) + " |\n";
   if (const std::string host = stealSentence(hostBefore, readHostCpuTimes()); !host.empty())
     t += "\nHost, while the kiosk ran: " + host + ".\n";
+  if (sheet.frames > 0 && !sheet.kept.empty()) t += "\nThe sheet the recording left: " + sheet.kept + ".\n";
   return t;
 }
 

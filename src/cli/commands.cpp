@@ -82,7 +82,8 @@ Commands::Commands(CLI::App& app) : app_(app) {
   benchCmd_->add_option("--only", only_, "Measure only the pieces whose name holds this text (\"vm\", \"plate\"; \"kiosk\": no piece); the baseline always");
   benchCmd_->add_option("--kiosk", kioskRecording_,
                         "Also run emboss-kiosk headless with this tablet recording (evemu) at its own pace: stroke-to-screen "
-                        "latency, CPU when idle, full frames of the sheet it left, attract frames a second")
+                        "latency, CPU when idle, full frames of the sheet it left (with -o T.md, kept as T-sheet.json and "
+                        "T-sheet.png), attract frames a second")
       ->check(CLI::ExistingFile);
   benchCmd_->add_option("--kiosk-loops", kioskLoops_, "Play the --kiosk recording this many times in a row (default 5)")
       ->check(CLI::Range(1, 100));

@@ -11,7 +11,7 @@ rec="$src/../shared/fixtures/evemu/Wacom Intuos4 6x9.stylus-drag.events"
 tmp="$(mktemp -d)"; trap 'rm -rf "$tmp"' EXIT
 fail=0
 mkdir "$tmp/tmpdir"
-TMPDIR="$tmp/tmpdir" "$emboss" bench --quick --only kiosk --threads 2 --kiosk "$rec" --kiosk-loops 2 >"$tmp/out" 2>"$tmp/err"; rc=$?
+TMPDIR="$tmp/tmpdir" "$emboss" bench --quick --only kiosk --threads 2 --kiosk "$rec" --kiosk-loops 2 -o "$tmp/bench.md" >"$tmp/out" 2>"$tmp/err"; rc=$?
 [ "$rc" -eq 0 ] || { echo "FAIL bench --kiosk: exit $rc"; cat "$tmp/out" "$tmp/err"; exit 1; }
 row() { grep "^| $1" "$tmp/out"; }
 # One loop of the drag recording changes the picture 23 times at its pace: two loops give more.
@@ -23,6 +23,14 @@ row "CPU while the visitor stands idle" | grep -Eq '\| [0-9.]+ % of one core \| 
 row "full frame of the sheet the recording left" |
   grep -Eq '^\| full frame of the sheet the recording left \([1-9][0-9]* operations, [0-9]+ set operations, [0-9]+ patina strokes\), 320x200 \| [0-9.]+ ms \(median of 2\), [0-9.]+x the baseline.s [0-9.]+ ms \| <= 1.5x the baseline \| (yes|\*\*no\*\*) \|$' &&
   echo "ok   the sheet left: $(row "full frame" | cut -d'|' -f3)" || { echo "FAIL sheet row: $(row "full frame")"; fail=1; }
+# Kept beside the report: the session the kiosk saved, and the very frame that was timed (a render
+# of that session at the same size gives its bytes).
+ops=$(row "full frame of the sheet the recording left" | sed -nE 's/^\| full frame of the sheet the recording left \(([0-9]+) operations.*/\1/p')
+again=$("$emboss" render "$tmp/bench-sheet.json" -o "$tmp/again.png" --size 320x200 --threads 1 2>&1)
+if grep -q "^The sheet the recording left: kept as bench-sheet.json (the session the kiosk saved) and bench-sheet.png (the full frame timed)\.$" "$tmp/out" &&
+   [ -n "$ops" ] && echo "$again" | grep -q "^render: 320x200, $ops operations," && cmp -s "$tmp/bench-sheet.png" "$tmp/again.png"; then
+  echo "ok   the sheet kept: $ops operations, its picture the frame timed"
+else echo "FAIL the sheet kept (row's operations '$ops'): $(grep "^The sheet the recording left" "$tmp/out"); $again; $(cmp "$tmp/bench-sheet.png" "$tmp/again.png" 2>&1)"; fail=1; fi
 row "attract mode" | grep -Eq '\| [0-9.]+ fps from its first frame on \([0-9]+ frames in [0-9.]+ s\) \| >= 30 fps' &&
   echo "ok   attract: $(row attract | cut -d'|' -f3)" || { echo "FAIL attract row: $(row attract)"; fail=1; }
 grep -q "played 2 times, a second apart, at its own pace" "$tmp/out" || { echo "FAIL the table does not say how the recording was played"; fail=1; }
