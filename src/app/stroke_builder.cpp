@@ -54,6 +54,8 @@ size_t StrokeBuilder::settled(const std::vector<Operation>& ops) const {
     case ToolKind::RegionRaiser:
     case ToolKind::PatinaBrush: return 0;
     case ToolKind::OvalPunch: return count >= 2 ? count - 2 : 0;
+    // Its strikes are final once placed; the first turns along the stroke once a second is there.
+    case ToolKind::FlatPunch: return count >= 2 ? count : 0;
     case ToolKind::Tracer:
       // A piece's end joint bisects the turn into the next piece's first segment, which is settled
       // once that piece has a point after it (before, it may still end at the pen).

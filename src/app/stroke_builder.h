@@ -10,7 +10,8 @@ namespace emboss {
 
 // Operations are made by strokeToOperations() (src/tools) from the whole stroke so far; those that
 // can no longer change as the stroke goes on (all but the tail: the last one, the last two for the
-// oval punch whose direction looks one strike ahead, none for a region until its contour closes)
+// oval punch whose direction looks one strike ahead, none for a region until its contour closes;
+// every strike of the flat punch, placed where the pen has already passed, once it has two)
 // are handed out at once, so the metal moves under the pen. When the stroke ends, the operations
 // of the whole stroke are computed once more: the result is exactly strokeToOperations(stroke).
 class StrokeBuilder {

@@ -3,14 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
-#include <queue>
-#include <span>
 #include <utility>
 #include <vector>
 
-#include "frep/interval.h"
 #include "frep/workpieces.h"
 
 namespace emboss {
@@ -247,7 +243,7 @@ void Workbench::endStroke() {
   // The rest belongs to the same stroke as the operations already handed out.
   const size_t before = model_->activeCount();
   for (const auto& op : f.rest)
-    if (admit(op) && model_->add(fitted(op))) changes_.ops.push_back(model_->activeCount() - 1), ++committed_;
+    if (admit(op) && model_->add(op)) changes_.ops.push_back(model_->activeCount() - 1), ++committed_;
   const size_t added = model_->activeCount() - before;
   if (added) {
     if (strokeOpen_ && !strokes_.empty()) strokes_.back() += added;
@@ -258,11 +254,40 @@ void Workbench::endStroke() {
   strokeOpen_ = false;
 }
 
+namespace {
+
+// A flat punch's strike: a region lowered from the front (the region raiser works from behind).
+bool isStrike(const Operation& o) { return o.kind == OpKind::Region && o.side == Side::Front && o.points.size() >= 3; }
+
+Vec2 centroid(const std::vector<Vec2>& pts) {
+  Vec2 c;
+  for (const auto& p : pts) c.x += p.x, c.y += p.y;
+  return {c.x / pts.size(), c.y / pts.size()};
+}
+
+// Odd parity: whether p lies inside the closed contour.
+bool inside(const std::vector<Vec2>& contour, Vec2 p) {
+  bool in = false;
+  for (size_t i = 0, j = contour.size() - 1; i < contour.size(); j = i++) {
+    const Vec2 &a = contour[i], &b = contour[j];
+    if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)) in = !in;
+  }
+  return in;
+}
+
+}  // namespace
+
 bool Workbench::admit(const Operation& op) const {
+  const auto& ops = model_->operations();
+  int covering = 0;
+  if (isStrike(op)) {
+    const Vec2 c = centroid(op.points);
+    for (size_t i = 0; i < model_->activeCount(); ++i)
+      if (isStrike(ops[i].op()) && inside(ops[i].op().points, c) && ++covering >= kMaxStrikesOnASpot) return false;
+    return true;
+  }
   if (op.kind != OpKind::BlendUnion && op.kind != OpKind::BlendSubtract) return true;
   const Vec3& c = op.tool.center;
-  int covering = 0;
-  const auto& ops = model_->operations();
   for (size_t i = 0; i < model_->activeCount(); ++i) {
     const Operation& o = ops[i].op();
     if (o.isOffset() || o.kind == OpKind::Patina) continue;
@@ -272,102 +297,10 @@ bool Workbench::admit(const Operation& op) const {
   return true;
 }
 
-namespace {
-
-// The highest the displacement D can be over `face` where that is above `floor`, or `floor`: D's
-// interval bounds (the operations `near` hold every offset whose support meets the face) over
-// squares of side `cell` at most, the square of the highest bound split first, squares whose bound
-// is not above the highest found passed whole. After kMostSquares squares the highest bound of
-// those not yet split stands for them (higher, never lower: the face may end a little higher).
-double highestDisplacement(const Model& model, const Box2& face, std::span<const std::uint32_t> near, double cell,
-                           double floor) {
-  constexpr int kMostSquares = 256;
-  struct Square {
-    Box2 b;
-    double bound;  // its parent's bound of D
-    bool operator<(const Square& o) const { return bound < o.bound; }
-  };
-  double best = floor;
-  std::priority_queue<Square> open;
-  open.push({face, std::numeric_limits<double>::infinity()});
-  for (int n = 0; !open.empty() && open.top().bound > best; ++n) {
-    if (n == kMostSquares) return open.top().bound;
-    const Box2 b = open.top().b;
-    open.pop();
-    const double hi = model.displacement(Interval(b.x0, b.x1), Interval(b.y0, b.y1), Interval(0.0), near).hi;
-    if (hi <= best) continue;
-    if (b.x1 - b.x0 <= cell && b.y1 - b.y0 <= cell) {
-      best = hi;
-      continue;
-    }
-    const double mx = 0.5 * (b.x0 + b.x1), my = 0.5 * (b.y0 + b.y1);
-    open.push({{b.x0, b.y0, mx, my}, hi}), open.push({{mx, b.y0, b.x1, my}, hi});
-    open.push({{b.x0, my, mx, b.y1}, hi}), open.push({{mx, my, b.x1, b.y1}, hi});
-  }
-  return best;
-}
-
-}  // namespace
-
-Operation Workbench::fitted(const Operation& op) const {
-  if (op.kind != OpKind::BlendSubtract || op.tool.type != ToolShape::Type::Flat) return op;
-  const double t = 2.0 * model_->workpiece().halfThickness();
-  const double step = t / 8.0;
-  const Vec3& c = op.tool.center;
-  const Vec3& h = op.tool.half;
-  // The operations that can act under the face (each point's own list is a subset).
-  const Box2 face{c.x - h.x, c.y - h.y, c.x + h.x, c.y + h.y};
-  const auto& ops = model_->operations();
-  std::vector<std::uint32_t> near;
-  for (size_t i = 0; i < model_->activeCount(); ++i)
-    if (ops[i].support().overlaps(face)) near.push_back(static_cast<std::uint32_t>(i));
-  double lowest = -std::numeric_limits<double>::infinity();  // where the face may go down to
-  constexpr int kGrid = 5;  // points a side over the face (a raised line between them is not seen)
-  for (int k = 0; k < kGrid * kGrid; ++k) {
-    const double u = -1.0 + 2.0 * (k % kGrid) / (kGrid - 1), v = -1.0 + 2.0 * (k / kGrid) / (kGrid - 1);
-    const double x = c.x + u * h.x, y = c.y + v * h.y;
-    const Model::Line<double> f(*model_, x, y, near);  // (the offsets under the point summed once)
-    // The first crossing into the metal from the tool's top down, and out of it again: the front
-    // and back faces there (a step an eighth of the sheet, then bisected).
-    const auto crossing = [&](double from, double to, bool inside) -> std::optional<double> {
-      double z = from;
-      while (z > to && (f(z) >= 0.0) != inside) z -= step;
-      if (z <= to) return std::nullopt;
-      double a = z, b = z + step;  // the side of a is the one sought; b's is not
-      for (int i = 0; i < 12; ++i) {
-        const double m = 0.5 * (a + b);
-        ((f(m) >= 0.0) == inside ? a : b) = m;
-      }
-      return a;
-    };
-    const auto front = crossing(c.z + h.z, c.z - h.z - 4.0 * t, true);
-    if (!front) continue;  // no metal under this point: nothing to keep
-    const auto back = crossing(*front - step / 4096.0, *front - 8.0 * t, false);
-    if (!back) continue;
-    // Half of what is left, and never less than a third of the sheet (strikes stacked on a spot
-    // would halve it each time, down to less than the tracer's grid along a ray).
-    lowest = std::max(lowest, *back + std::max(0.5 * (*front - *back), t / 3.0));
-  }
-  // Between those points the sheet may rise more than the box is tall (a slope of the relief):
-  // there the metal could lie wholly inside the box, above the downhill points' metal and below
-  // the uphill points' (which lie above the box, and were passed). In the sheet model of a flat
-  // workpiece the back face is D - d, which no strike moves, so every column keeps a third of the
-  // sheet when the face stays a third above the highest back face under it.
-  const Box3 wb = model_->workpiece().bounds();
-  if (model_->deformation() == Deformation::Sheet && std::abs(wb.z1 - wb.z0 - t) < 1e-9) {
-    const double floor = std::max(lowest, c.z - h.z) - wb.z0 - t / 3.0;  // D up to it changes nothing
-    lowest = std::max(lowest, highestDisplacement(*model_, face, near, step, floor) + wb.z0 + t / 3.0);
-  }
-  if (c.z - h.z >= lowest) return op;
-  Operation o = op;
-  o.tool.center.z = lowest + h.z;
-  return o;
-}
-
 void Workbench::commit(const std::vector<Operation>& ops) {
   size_t added = 0;
   for (const auto& op : ops)
-    if (admit(op) && model_->add(fitted(op))) changes_.ops.push_back(model_->activeCount() - 1), ++added, ++committed_;
+    if (admit(op) && model_->add(op)) changes_.ops.push_back(model_->activeCount() - 1), ++added, ++committed_;
   if (!added) return;
   redo_.clear();
   if (strokeOpen_) strokes_.back() += added;

@@ -40,8 +40,9 @@ inline constexpr int kMinSizeStep = -2, kMaxSizeStep = 2;
 // Not thread-safe: the main loop owns it. Times are seconds on the app's clock.
 class Workbench {
  public:
-  // A blending punch's beads stacked on one spot at most (admit()).
+  // A blending punch's beads stacked on one spot at most, and a flat punch's strikes (admit()).
   static constexpr int kMaxBlendsOnASpot = 3;
+  static constexpr int kMaxStrikesOnASpot = 3;
 
   explicit Workbench(BenchSetup setup);
 
@@ -123,13 +124,9 @@ class Workbench {
   // spot moves towards zero as more are stacked there, and every evaluation near the stack visits
   // all of them: a visitor going over the same place again and again with the punch would make
   // each frame there dearer without end (the renderer's dense rays bound the search, not this).
+  // Likewise a flat punch's strike where kMaxStrikesOnASpot strikes' faces already cover its
+  // centre: each sinks the sheet by its depth again, and the background would sink without end.
   bool admit(const Operation& op) const;
-  // `op` as the sheet takes it from the pen: a flat punch beats the background down and never
-  // cuts through the metal. Its face is raised where it would leave less than half of the metal
-  // under it, or less than a third of the sheet (on a grid of points over its face): the
-  // visitor's pressure, a thin sheet and strikes stacked on a spot made holes, and a stroke
-  // over a hole ends there.
-  Operation fitted(const Operation& op) const;
 
   void undoOps(size_t n);
   void setView(bool turned, double now);

@@ -80,6 +80,32 @@ std::vector<StrokePoint> resample(const std::vector<StrokePoint>& s, double spac
   return out;
 }
 
+// Points exactly `spacing` apart in a straight line, the first the stroke's own: each where the path
+// first gets that far from the one before, its z and pressure interpolated there. A point is final
+// once the path has passed it (what the pen does afterwards moves none of them).
+std::vector<StrokePoint> evenlySpaced(const std::vector<StrokePoint>& s, double spacing) {
+  std::vector<StrokePoint> out;
+  if (s.empty()) return out;
+  out.push_back(s.front());
+  const double s2 = spacing * spacing;
+  StrokePoint a = s.front();  // where the walk along the path has got to
+  for (size_t i = 1; i < s.size(); ++i) {
+    const StrokePoint& b = s[i];
+    for (;;) {
+      const StrokePoint l = out.back();
+      if ((b.x - l.x) * (b.x - l.x) + (b.y - l.y) * (b.y - l.y) < s2) break;
+      // a + t (b - a) at `spacing` from l, t in (0, 1]: a lies inside the circle, b on or outside it.
+      const double dx = b.x - a.x, dy = b.y - a.y, ax = a.x - l.x, ay = a.y - l.y;
+      const double qa = dx * dx + dy * dy, qb = ax * dx + ay * dy, qc = ax * ax + ay * ay - s2;
+      const double t = std::clamp((-qb + std::sqrt(std::max(0.0, qb * qb - qa * qc))) / qa, 0.0, 1.0);
+      a = {a.x + t * dx, a.y + t * dy, a.z + t * (b.z - a.z), a.pressure + t * (b.pressure - a.pressure)};
+      out.push_back(a);
+    }
+    a = b;
+  }
+  return out;
+}
+
 }  // namespace
 
 namespace {
@@ -194,17 +220,34 @@ std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& met
       break;
     }
     case ToolKind::FlatPunch: {
-      for (const auto& p : resample(stroke, 0.8 * tool.size)) {
+      // The chaser's flat punch walked along the stroke to beat the background down: each strike
+      // pushes its rectangular face (the tool's size across the stroke, 0.7 of it along) down by
+      // half the penetration depth, a region lowered from the front: uniform inside, (3)'s descent
+      // outside. The sheet bends under it as a whole, so no strike cuts into the metal, however
+      // steep the relief it lands on. Strikes sit exactly a face and two falloffs apart, so that
+      // where two faces meet their descents add up to one strike's depth (at the middle of the gap;
+      // 1.2 times it at a face's edge).
+      const double along = 0.35 * tool.size, across = 0.5 * tool.size, falloff = kFlatPunchFalloff * tool.size;
+      const auto pts = evenlySpaced(stroke, 2.0 * (along + falloff));
+      for (size_t i = 0; i < pts.size(); ++i) {
+        // Along the stroke: from the strike before (the first strike: to the next). A single
+        // strike lies with its long side along x.
+        double ux = 0.0, uy = 1.0;
+        if (pts.size() >= 2) {
+          const StrokePoint& a = pts[i ? i - 1 : 0];
+          const StrokePoint& b = pts[i ? i : 1];
+          const double len = portableHypot(b.x - a.x, b.y - a.y);
+          ux = (b.x - a.x) / len, uy = (b.y - a.y) / len;
+        }
+        const double nx = uy, ny = -ux;  // across the stroke
+        const StrokePoint& c = pts[i];
         Operation op;
-        op.kind = OpKind::BlendSubtract;
-        op.tool.type = ToolShape::Type::Flat;
-        const double depth = penetrationDepth(tool, metal, p.pressure) * 0.5;
-        op.tool.half = {0.5 * tool.size, 0.35 * tool.size, 1.0};
-        op.tool.center = {p.x, p.y, p.z + 1.0 - depth};
-        // a1, a2, a3 grow linearly with the tool; a harder metal gathers more (a1).
-        op.a1 = 0.05 * tool.size * metal.hardness;
-        op.a2 = 0.2 * tool.size;
-        op.a3 = 0.2 * tool.size;
+        op.kind = OpKind::Region;
+        op.side = tool.side;
+        for (const auto& [su, sn] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}})
+          op.points.push_back({c.x + su * along * ux + sn * across * nx, c.y + su * along * uy + sn * across * ny});
+        op.height = penetrationDepth(tool, metal, c.pressure) * 0.5;
+        op.falloff = falloff;
         ops.push_back(op);
       }
       break;

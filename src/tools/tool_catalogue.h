@@ -13,7 +13,7 @@ enum class ToolKind {
   Tracer,        // traced contour (2): a groove from the front or a raised line from behind
   Punch,         // round punch (3), from behind (raise) or the front (chasing)
   OvalPunch,     // an elongated punch: (3) pressed along a short path
-  FlatPunch,     // a flat rectangular face: subtraction with blending (planishing)
+  FlatPunch,     // a flat rectangular face: regions lowered from the front (beating the background down)
   Hammer,        // small front strikes for background texture
   RegionRaiser,  // raises a whole outlined region from behind
   BlendPunch,    // adds material with a blended union (4)
@@ -44,7 +44,8 @@ double penetrationDepth(const ToolSpec& tool, const Metal& metal, double pressur
 
 // The operations a whole stroke makes. Tracers: the path, simplified, split into segments of at
 // most kTraceSegment mm (one trace operation each); punches and hammers: strikes spaced along the
-// path; region raiser: the stroke is the closed contour; blending punch: blended spheres along
+// path; flat punch: its face lowered at points exactly evenly spaced, turned along the stroke;
+// region raiser: the stroke is the closed contour; blending punch: blended spheres along
 // the path; patina brush: one patina operation along the whole stroke (handed out when the pen
 // lifts), its strength from the mean pressure. The parameters are exactly those the equations use.
 std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& metal, const std::vector<StrokePoint>& stroke);
@@ -54,6 +55,8 @@ Operation traceOp(const ToolSpec& tool, const Metal& metal, const std::vector<Ve
 Operation punchOp(const ToolSpec& tool, const Metal& metal, const Vec3& at, double pressure);
 
 inline constexpr double kTraceSegment = 4.0;  // mm
+// The flat punch's falloff round its face, over its size (its strikes are regions lowered from the front).
+inline constexpr double kFlatPunchFalloff = 0.1;
 
 // Joins the consecutive trace operations ops[first..] of one line where one ends at the point the
 // next starts from (TraceJoin: no bead at the joints). The joint's direction bisects the turn from

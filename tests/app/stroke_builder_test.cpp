@@ -45,8 +45,58 @@ TEST(StrokeBuilder, EveryToolHandsOutOnlyWhatTheWholeStrokeMakes) {
       if (tool.kind == ToolKind::RegionRaiser) {
         EXPECT_EQ(early, 0u);
       }
+      if (tool.kind == ToolKind::FlatPunch && want.size() >= 2) {
+        // Every strike but one placed since the pen's last quarter millimetre, while the pen moves.
+        EXPECT_GE(early + 1, want.size()) << tool.name << " seed " << seed;
+      }
     }
   }
+}
+
+// The flat punch's strikes: its face (the tool's size across the stroke, 0.7 of it along) lowered
+// at points exactly 0.9 of its size apart on the stroke, each turned along the line from the strike
+// before (the first: to the next), so that the strikes of a line meet without overlapping.
+TEST(StrokeBuilder, TheFlatPunchsStrikesAreEvenlySpacedAndTurnedAlongTheStroke) {
+  const Metal metal = *metalByName("copper");
+  ToolSpec tool;
+  for (const auto& t : toolCatalogue())
+    if (t.kind == ToolKind::FlatPunch) tool = t;
+  ASSERT_EQ(tool.kind, ToolKind::FlatPunch);
+  const double along = 0.7 * tool.size, across = tool.size, spacing = along + 2.0 * kFlatPunchFalloff * tool.size;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    const auto pts = wobbly(seed * 57, 60 + static_cast<int>(seed * 23));
+    const auto ops = strokeToOperations(tool, metal, pts);
+    ASSERT_GE(ops.size(), 2u) << "seed " << seed;
+    std::vector<Vec2> c;
+    for (const auto& op : ops) {
+      ASSERT_EQ(op.kind, OpKind::Region);
+      EXPECT_EQ(op.side, Side::Front);
+      ASSERT_EQ(op.points.size(), 4u);
+      EXPECT_DOUBLE_EQ(op.falloff, kFlatPunchFalloff * tool.size);
+      EXPECT_GT(op.height, 0.0);
+      const auto& q = op.points;
+      c.push_back({0.25 * (q[0].x + q[1].x + q[2].x + q[3].x), 0.25 * (q[0].y + q[1].y + q[2].y + q[3].y)});
+      EXPECT_NEAR(std::hypot(q[1].x - q[0].x, q[1].y - q[0].y), along, 1e-9);
+      EXPECT_NEAR(std::hypot(q[2].x - q[1].x, q[2].y - q[1].y), across, 1e-9);
+      EXPECT_NEAR(std::hypot(q[2].x - q[0].x, q[2].y - q[0].y), std::hypot(along, across), 1e-9);  // a rectangle
+    }
+    EXPECT_NEAR(c[0].x, pts[0].x, 1e-9);
+    EXPECT_NEAR(c[0].y, pts[0].y, 1e-9);
+    for (size_t i = 0; i < ops.size(); ++i) {
+      if (i) {
+        EXPECT_NEAR(std::hypot(c[i].x - c[i - 1].x, c[i].y - c[i - 1].y), spacing, 1e-9) << "strike " << i;
+      }
+      const Vec2 a = c[i ? i - 1 : 0], b = c[i ? i : 1];
+      const auto& q = ops[i].points;
+      // The face's short side lies along the line from a to b.
+      const double cross = (q[1].x - q[0].x) * (b.y - a.y) - (q[1].y - q[0].y) * (b.x - a.x);
+      EXPECT_NEAR(cross, 0.0, 1e-9) << "strike " << i;
+    }
+  }
+  // A single tap: one strike, its long side along x.
+  const auto one = strokeToOperations(tool, metal, {{3, 4, 0.5, 0.6}});
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_NEAR(std::abs(one[0].points[2].x - one[0].points[1].x), across, 1e-9);
 }
 
 TEST(StrokeBuilder, SingleTapIsOneStrike) {
