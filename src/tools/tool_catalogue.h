@@ -55,8 +55,9 @@ Operation traceOp(const ToolSpec& tool, const Metal& metal, const std::vector<Ve
 Operation punchOp(const ToolSpec& tool, const Metal& metal, const Vec3& at, double pressure);
 
 inline constexpr double kTraceSegment = 4.0;  // mm
-// The flat punch's falloff round its face, over its size (its strikes are regions lowered from the front).
-inline constexpr double kFlatPunchFalloff = 0.1;
+// The flat punch's falloff round its face, over its size (its strikes are regions lowered from the
+// front); it sets their spacing too: a face and two falloffs.
+inline constexpr double kFlatPunchFalloff = 0.2;
 
 // Joins the consecutive trace operations ops[first..] of one line where one ends at the point the
 // next starts from (TraceJoin: no bead at the joints). The joint's direction bisects the turn from

@@ -54,7 +54,7 @@ TEST(StrokeBuilder, EveryToolHandsOutOnlyWhatTheWholeStrokeMakes) {
 }
 
 // The flat punch's strikes: its face (the tool's size across the stroke, 0.7 of it along) lowered
-// at points exactly 0.9 of its size apart on the stroke, each turned along the line from the strike
+// at points exactly a face and two falloffs apart on the stroke, each turned along the line from the strike
 // before (the first: to the next), so that the strikes of a line meet without overlapping.
 TEST(StrokeBuilder, TheFlatPunchsStrikesAreEvenlySpacedAndTurnedAlongTheStroke) {
   const Metal metal = *metalByName("copper");
