@@ -46,7 +46,8 @@ TEST(StrokeBuilder, EveryToolHandsOutOnlyWhatTheWholeStrokeMakes) {
         EXPECT_EQ(early, 0u);
       }
       if (tool.kind == ToolKind::FlatPunch && want.size() >= 2) {
-        // Every strike but one placed since the pen's last quarter millimetre, while the pen moves.
+        // Handed out while the pen moves, all but a strike placed after the builder last looked
+        // (it looks again each quarter millimetre the pen moves).
         EXPECT_GE(early + 1, want.size()) << tool.name << " seed " << seed;
       }
     }
@@ -54,8 +55,8 @@ TEST(StrokeBuilder, EveryToolHandsOutOnlyWhatTheWholeStrokeMakes) {
 }
 
 // The flat punch's strikes: its face (the tool's size across the stroke, 0.7 of it along) lowered
-// at points exactly a face and two falloffs apart on the stroke, each turned along the line from the strike
-// before (the first: to the next), so that the strikes of a line meet without overlapping.
+// at points exactly a face and two falloffs apart on the stroke, each turned along the line from
+// the strike before (the first: to the next), so that the strikes of a line meet without overlapping.
 TEST(StrokeBuilder, TheFlatPunchsStrikesAreEvenlySpacedAndTurnedAlongTheStroke) {
   const Metal metal = *metalByName("copper");
   ToolSpec tool;

@@ -286,8 +286,10 @@ double frontAt(const Model& m, double x, double y, double top = 3.0, double step
 // The flat punch's strikes in the model: regions lowered from the front.
 std::vector<Operation> strikesOf(const Model& m) {
   std::vector<Operation> out;
-  for (size_t i = 0; i < m.activeCount(); ++i)
-    if (m.operations()[i].op().kind == OpKind::Region && m.operations()[i].op().side == Side::Front) out.push_back(m.operations()[i].op());
+  for (size_t i = 0; i < m.activeCount(); ++i) {
+    const Operation& o = m.operations()[i].op();
+    if (o.kind == OpKind::Region && o.side == Side::Front) out.push_back(o);
+  }
   return out;
 }
 
@@ -322,7 +324,8 @@ TEST(Workbench, TheFlatPunchBeatsABandDownEvenly) {
     EXPECT_GE(lo, 0.9 * h) << "a ridge between strikes, from " << from.x << ", " << from.y;
     EXPECT_LE(hi, 1.3 * h) << "strikes overlapping, from " << from.x << ", " << from.y;
     const Vec2 c = centreOf(strikes[3]);
-    const double len = std::hypot(to.x - from.x, to.y - from.y), nx = -(to.y - from.y) / len, ny = (to.x - from.x) / len;
+    const double len = std::hypot(to.x - from.x, to.y - from.y);
+    const double nx = -(to.y - from.y) / len, ny = (to.x - from.x) / len;
     const double reach = 0.4 * b.tool().size;
     for (double v : {-reach, -0.5 * reach, 0.5 * reach, reach}) {
       const double depth = top - frontAt(b.model(), c.x + v * nx, c.y + v * ny);
@@ -368,8 +371,10 @@ TEST(Workbench, TheFlatPunchNeverCutsThroughTheSheet) {
     for (size_t j = 0; j < i; ++j) {
       const auto& q = strikes[j].points;
       bool in = false;
-      for (size_t k = 0, l = q.size() - 1; k < q.size(); l = k++)
-        if ((q[k].y > c.y) != (q[l].y > c.y) && c.x < q[k].x + (c.y - q[k].y) * (q[l].x - q[k].x) / (q[l].y - q[k].y)) in = !in;
+      for (size_t k = 0, l = q.size() - 1; k < q.size(); l = k++) {
+        if ((q[k].y > c.y) == (q[l].y > c.y)) continue;  // the edge does not cross the strike's row
+        if (c.x < q[k].x + (c.y - q[k].y) * (q[l].x - q[k].x) / (q[l].y - q[k].y)) in = !in;
+      }
       covering += in;
     }
     EXPECT_LT(covering, Workbench::kMaxStrikesOnASpot) << "strike " << i;
