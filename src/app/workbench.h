@@ -40,9 +40,12 @@ inline constexpr int kMinSizeStep = -2, kMaxSizeStep = 2;
 // Not thread-safe: the main loop owns it. Times are seconds on the app's clock.
 class Workbench {
  public:
-  // A blending punch's beads stacked on one spot at most, and a flat punch's strikes (admit()).
+  // A blending punch's beads stacked on one spot at most (admit()).
   static constexpr int kMaxBlendsOnASpot = 3;
-  static constexpr int kMaxStrikesOnASpot = 3;
+  // A flat punch's strikes whose faces may cover a new strike's centre: about three passes of the
+  // punch along a line (in one pass each centre lies under the face before it; in the next, under
+  // kFlatPunchOverlap strikes of the pass before as well, and so on).
+  static constexpr int kMaxStrikesOnASpot = 3 * kFlatPunchOverlap - 1;
 
   explicit Workbench(BenchSetup setup);
 
@@ -125,7 +128,7 @@ class Workbench {
   // all of them: a visitor going over the same place again and again with the punch would make
   // each frame there dearer without end (the renderer's dense rays bound the search, not this).
   // Likewise a flat punch's strike where kMaxStrikesOnASpot strikes' faces already cover its
-  // centre: each sinks the sheet by its depth again, and the background would sink without end.
+  // centre: each sinks the sheet a little more, and the background would sink without end.
   bool admit(const Operation& op) const;
 
   void undoOps(size_t n);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "frep/kernels.h"
 #include "util/portable_math.h"
 
 namespace emboss {
@@ -107,6 +108,19 @@ std::vector<StrokePoint> evenlySpaced(const std::vector<StrokePoint>& s, double 
 }
 
 }  // namespace
+
+double flatPunchDescent() {
+  // The region's descent F^2 / (d^2 + F^2), exact to 3 F and tapered to zero at 4 F, integrated
+  // over d in units of F (Simpson's rule; the taper's ends are smooth).
+  static const double kIntegral = [] {
+    constexpr int n = 4000;
+    const auto g = [](double u) { return kernels::taperWeight(u) / (u * u + 1.0); };
+    double sum = g(0.0) + g(kernels::kSupportSpan);
+    for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * g(kernels::kSupportSpan * i / n);
+    return sum * kernels::kSupportSpan / (3.0 * n);
+  }();
+  return kIntegral;
+}
 
 namespace {
 
@@ -221,21 +235,25 @@ std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& met
     }
     case ToolKind::FlatPunch: {
       // The chaser's flat punch walked along the stroke to beat the background down: each strike
-      // pushes its rectangular face (the tool's size across the stroke, 0.7 of it along) down by
-      // half the penetration depth, a region lowered from the front: uniform inside, (3)'s descent
-      // outside. The sheet bends under it as a whole, so no strike cuts into the metal, however
-      // steep the relief it lands on. Strikes sit exactly a face and two falloffs apart, so that
-      // where two faces meet their descents add up to one strike's depth (at the middle of the gap;
-      // 1.2 times it at a face's edge).
+      // pushes its rectangular face (the tool's size across the stroke, 0.7 of it along) down, a
+      // region lowered from the front: uniform inside, the region's descent outside. The sheet
+      // bends under it as a whole, so no strike cuts into the metal, however steep the relief it
+      // lands on. The strikes overlap, as a chaser's do: kFlatPunchOverlap faces cover every point
+      // of the line, each turned along the stroke, so the band is smooth along it; their depths
+      // add up to half the penetration depth, a single strike's own.
       const double along = 0.35 * tool.size, across = 0.5 * tool.size, falloff = kFlatPunchFalloff * tool.size;
-      const auto pts = evenlySpaced(stroke, 2.0 * (along + falloff));
+      const double spacing = 2.0 * along / kFlatPunchOverlap;
+      const auto pts = evenlySpaced(stroke, spacing);
+      // A point of a straight line lies under faces and descents that add up to this many strikes
+      // (a single strike, a tap, goes the whole depth).
+      const double strikes = pts.size() == 1 ? 1.0 : (2.0 * along + 2.0 * falloff * flatPunchDescent()) / spacing;
       for (size_t i = 0; i < pts.size(); ++i) {
-        // Along the stroke: from the strike before (the first strike: to the next). A single
-        // strike lies with its long side along x.
+        // Along the stroke: from the strike a face's length before (the first strikes: from the
+        // first, or to the next). A single strike lies with its long side along x.
         double ux = 0.0, uy = 1.0;
         if (pts.size() >= 2) {
-          const StrokePoint& a = pts[i ? i - 1 : 0];
-          const StrokePoint& b = pts[i ? i : 1];
+          const StrokePoint& a = pts[i >= kFlatPunchOverlap ? i - kFlatPunchOverlap : 0];
+          const StrokePoint& b = pts[std::max<size_t>(i, 1)];
           const double len = portableHypot(b.x - a.x, b.y - a.y);
           ux = (b.x - a.x) / len, uy = (b.y - a.y) / len;
         }
@@ -246,7 +264,7 @@ std::vector<Operation> strokeToOperations(const ToolSpec& tool, const Metal& met
         op.side = tool.side;
         for (const auto& [su, sn] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}})
           op.points.push_back({c.x + su * along * ux + sn * across * nx, c.y + su * along * uy + sn * across * ny});
-        op.height = penetrationDepth(tool, metal, c.pressure) * 0.5;
+        op.height = penetrationDepth(tool, metal, c.pressure) * 0.5 / strikes;
         op.falloff = falloff;
         ops.push_back(op);
       }

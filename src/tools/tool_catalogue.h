@@ -44,7 +44,8 @@ double penetrationDepth(const ToolSpec& tool, const Metal& metal, double pressur
 
 // The operations a whole stroke makes. Tracers: the path, simplified, split into segments of at
 // most kTraceSegment mm (one trace operation each); punches and hammers: strikes spaced along the
-// path; flat punch: its face lowered at points exactly evenly spaced, turned along the stroke;
+// path; flat punch: its face lowered at points exactly evenly spaced, overlapping, turned along
+// the stroke;
 // region raiser: the stroke is the closed contour; blending punch: blended spheres along
 // the path; patina brush: one patina operation along the whole stroke (handed out when the pen
 // lifts), its strength from the mean pressure. The parameters are exactly those the equations use.
@@ -55,9 +56,14 @@ Operation traceOp(const ToolSpec& tool, const Metal& metal, const std::vector<Ve
 Operation punchOp(const ToolSpec& tool, const Metal& metal, const Vec3& at, double pressure);
 
 inline constexpr double kTraceSegment = 4.0;  // mm
-// The flat punch's falloff round its face, over its size (its strikes are regions lowered from the
-// front); it sets their spacing too: a face and two falloffs.
+// The flat punch's strikes are regions of its face lowered from the front: their falloff round the
+// face over the punch's size, and how many faces cover each point of a line (their spacing is the
+// face's length along the stroke over this).
 inline constexpr double kFlatPunchFalloff = 0.2;
+inline constexpr int kFlatPunchOverlap = 3;
+// The region's descent outside its contour integrated across, in units of its falloff (about 1.29):
+// a line of strikes sinks by their height times (face + 2 falloffs x this) / spacing.
+double flatPunchDescent();
 
 // Joins the consecutive trace operations ops[first..] of one line where one ends at the point the
 // next starts from (TraceJoin: no bead at the joints). The joint's direction bisects the turn from

@@ -55,19 +55,21 @@ TEST(StrokeBuilder, EveryToolHandsOutOnlyWhatTheWholeStrokeMakes) {
 }
 
 // The flat punch's strikes: its face (the tool's size across the stroke, 0.7 of it along) lowered
-// at points exactly a face and two falloffs apart on the stroke, each turned along the line from
-// the strike before (the first: to the next), so that the strikes of a line meet without overlapping.
+// at points exactly evenly spaced on the stroke, kFlatPunchOverlap to a face's length, each turned
+// along the line from the strike a face's length before (the first ones: from the first, or to
+// the next). A single tap: one strike, its long side along x, half the penetration depth deep.
 TEST(StrokeBuilder, TheFlatPunchsStrikesAreEvenlySpacedAndTurnedAlongTheStroke) {
   const Metal metal = *metalByName("copper");
   ToolSpec tool;
   for (const auto& t : toolCatalogue())
     if (t.kind == ToolKind::FlatPunch) tool = t;
   ASSERT_EQ(tool.kind, ToolKind::FlatPunch);
-  const double along = 0.7 * tool.size, across = tool.size, spacing = along + 2.0 * kFlatPunchFalloff * tool.size;
+  const double along = 0.7 * tool.size, across = tool.size, spacing = along / kFlatPunchOverlap;
+  const size_t back = kFlatPunchOverlap;
   for (std::uint64_t seed = 1; seed <= 12; ++seed) {
     const auto pts = wobbly(seed * 57, 60 + static_cast<int>(seed * 23));
     const auto ops = strokeToOperations(tool, metal, pts);
-    ASSERT_GE(ops.size(), 2u) << "seed " << seed;
+    ASSERT_GE(ops.size(), 6u) << "seed " << seed;
     std::vector<Vec2> c;
     for (const auto& op : ops) {
       ASSERT_EQ(op.kind, OpKind::Region);
@@ -75,6 +77,7 @@ TEST(StrokeBuilder, TheFlatPunchsStrikesAreEvenlySpacedAndTurnedAlongTheStroke) 
       ASSERT_EQ(op.points.size(), 4u);
       EXPECT_DOUBLE_EQ(op.falloff, kFlatPunchFalloff * tool.size);
       EXPECT_GT(op.height, 0.0);
+      EXPECT_LT(op.height, 0.5 * penetrationDepth(tool, metal, 1.0) / kFlatPunchOverlap);
       const auto& q = op.points;
       c.push_back({0.25 * (q[0].x + q[1].x + q[2].x + q[3].x), 0.25 * (q[0].y + q[1].y + q[2].y + q[3].y)});
       EXPECT_NEAR(std::hypot(q[1].x - q[0].x, q[1].y - q[0].y), along, 1e-9);
@@ -87,17 +90,25 @@ TEST(StrokeBuilder, TheFlatPunchsStrikesAreEvenlySpacedAndTurnedAlongTheStroke) 
       if (i) {
         EXPECT_NEAR(std::hypot(c[i].x - c[i - 1].x, c[i].y - c[i - 1].y), spacing, 1e-9) << "strike " << i;
       }
-      const Vec2 a = c[i ? i - 1 : 0], b = c[i ? i : 1];
+      const Vec2 a = c[i >= back ? i - back : 0], b = c[std::max<size_t>(i, 1)];
       const auto& q = ops[i].points;
       // The face's short side lies along the line from a to b.
       const double cross = (q[1].x - q[0].x) * (b.y - a.y) - (q[1].y - q[0].y) * (b.x - a.x);
       EXPECT_NEAR(cross, 0.0, 1e-9) << "strike " << i;
     }
   }
-  // A single tap: one strike, its long side along x.
   const auto one = strokeToOperations(tool, metal, {{3, 4, 0.5, 0.6}});
   ASSERT_EQ(one.size(), 1u);
   EXPECT_NEAR(std::abs(one[0].points[2].x - one[0].points[1].x), across, 1e-9);
+  EXPECT_DOUBLE_EQ(one[0].height, 0.5 * penetrationDepth(tool, metal, 0.6));
+}
+
+// The region's descent integrated across, in units of its falloff: atan(3) to 3 F where it is
+// exact, and a little more in the taper beyond (between its value at 3 F times nothing and times F).
+TEST(StrokeBuilder, TheRegionsDescentIntegratesToAboutOnePointThreeFalloffs) {
+  const double exact = std::atan(3.0);
+  EXPECT_GT(flatPunchDescent(), exact);
+  EXPECT_LT(flatPunchDescent(), exact + 0.1);
 }
 
 TEST(StrokeBuilder, SingleTapIsOneStrike) {
