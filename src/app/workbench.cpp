@@ -265,16 +265,6 @@ Vec2 centroid(const std::vector<Vec2>& pts) {
   return {c.x / pts.size(), c.y / pts.size()};
 }
 
-// Odd parity: whether p lies inside the closed contour.
-bool inside(const std::vector<Vec2>& contour, Vec2 p) {
-  bool in = false;
-  for (size_t i = 0, j = contour.size() - 1; i < contour.size(); j = i++) {
-    const Vec2 &a = contour[i], &b = contour[j];
-    if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)) in = !in;
-  }
-  return in;
-}
-
 }  // namespace
 
 bool Workbench::admit(const Operation& op) const {
@@ -283,7 +273,7 @@ bool Workbench::admit(const Operation& op) const {
   if (isStrike(op)) {
     const Vec2 c = centroid(op.points);
     for (size_t i = 0; i < model_->activeCount(); ++i)
-      if (isStrike(ops[i].op()) && inside(ops[i].op().points, c) && ++covering >= kMaxStrikesOnASpot) return false;
+      if (isStrike(ops[i].op()) && ops[i].insideRegion(c.x, c.y) && ++covering >= kMaxStrikesOnASpot) return false;
     return true;
   }
   if (op.kind != OpKind::BlendUnion && op.kind != OpKind::BlendSubtract) return true;

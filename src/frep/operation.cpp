@@ -613,6 +613,8 @@ PreparedOp::SupportPieces PreparedOp::supportPieces() const {
   return s;
 }
 
+bool PreparedOp::insideRegion(double x, double y) const { return insideContour(contour_, x, y); }
+
 double PreparedOp::patinaAt(double x, double y) const {
   if (op_.kind != OpKind::Patina || !support_.contains(x, y)) return 0.0;
   // The distance to the stroke matters only within its reach a: a segment whose box grown by a

@@ -125,6 +125,9 @@ class PreparedOp {
   // of radius a along the path, (1 - (d/a)^4)^2 at distance d from it (full in the middle, a soft
   // rim, nothing beyond a).
   double patinaAt(double x, double y) const;
+  // Region only: whether (x, y) lies inside its closed contour (odd parity, the same test its
+  // offset makes).
+  bool insideRegion(double x, double y) const;
   // Press only: where the program placed the punches along the path.
   const std::vector<Vec3>& pressPoints() const { return pressPoints_; }
   // op().characteristicLength(), worked out once (evaluation needs it at every point).
