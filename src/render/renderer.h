@@ -21,6 +21,7 @@
 #include "render/shading.h"
 #include "render/thread_pool.h"
 #include "render/walk_lanes.h"
+#include "util/uninitialized.h"
 
 namespace emboss {
 
@@ -236,13 +237,18 @@ class Renderer {
   // coarse picture's, and the coarsest a stopped coarse picture falls back to).
   // An edge pixel's two sample rays' hits are kept the same way (forgotten by the same test, ray
   // by ray), so that an edge a change cannot reach is shaded again rather than sampled again.
+  // `t` and `samples` are left uninitialized when they grow (UninitializedVector): `t` is filled
+  // before it is read (`blank`), and of `samples` only the edges' slots are ever written, so only
+  // their pages are touched. Value-initialized, the three slots' first growth at 1280x800 (25 MB
+  // each) cost a camera in motion's second and third frames 50 to 80 ms each in page faults
+  // (attract mode's first tick missed; docs/performance.md, "Stop 72").
   struct HitCache {
     std::optional<Camera> camera;
-    std::vector<double> t;
+    UninitializedVector<double> t;
     // Per pixel its edge samples' t (+inf a miss, NaN not known), two a pixel, read only where
     // `sampled` is 1. `sampled` is empty when none is known (a new camera, everything forgotten)
     // and set up by the next render() that anti-aliases.
-    std::vector<double> samples;
+    UninitializedVector<double> samples;
     std::vector<std::uint8_t> sampled;
     // Set by setCamera() for a new camera: `t` is to be all NaN, filled by the next render() (a
     // camera in motion is set several times a frame, and each fill was 8 MB at 1280x800).

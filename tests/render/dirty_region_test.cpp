@@ -365,6 +365,45 @@ TEST(DirtyRegion, KeptEdgeSamplesAreTheirCamerasOwn) {
   EXPECT_GT(reshaded, 0u);
 }
 
+// A camera's kept hits in a slot that held a bigger picture before: the slots grow without
+// clearing (HitCache), so the other camera's hits are still in the memory a new camera takes
+// over. A view of the plate, three small pictures (the last takes over the view's slot, shrinking
+// it), the first two of them again, then another view of the first one's size, which grows that
+// slot again: its whole picture as a dirty update, after a punch, must trace every ray (none of
+// them is kept yet) and give a fresh render's bytes.
+TEST(DirtyRegion, ASlotGrownAgainKeepsNoHitOfTheCameraBefore) {
+  StrokedPlateScene scene(29);
+  const GeneratedPiece& piece = scene.piece;
+  Renderer& live = scene.live;
+  Model& model = scene.model;
+  live.setShading(shading(model));
+  live.sync(model);
+  CameraSpec nearer = piece.camera;
+  nearer.eye = {nearer.target.x + 0.8 * (nearer.eye.x - nearer.target.x), nearer.target.y + 0.8 * (nearer.eye.y - nearer.target.y),
+                nearer.target.z + 0.8 * (nearer.eye.z - nearer.target.z)};
+  const Camera view(piece.camera, 128, 80), other(nearer, 128, 80);
+  const Camera small[3] = {Camera(piece.camera, 32, 20), Camera(piece.camera, 24, 15), Camera(piece.camera, 16, 10)};
+  Image image;
+  live.setCamera(view);
+  live.renderFull(image);
+  for (const Camera& c : small) {
+    live.setCamera(c);
+    live.renderFull(image);
+  }
+  live.setCamera(small[0]);
+  live.setCamera(small[1]);
+  live.setCamera(other);  // (the slot of small[2], once the view's)
+  PieceRandom rng(5);
+  ASSERT_TRUE(model.add(randomPunch(rng, piece, scene.opt.toolScale)).ok());
+  live.sync(model);
+  image = Image();
+  RenderStats st;
+  ASSERT_TRUE(live.render(image, Rect{0, 0, 128, 80}, &st));
+  EXPECT_EQ(st.reshaded, 0u);
+  const std::string diff = againstFresh(model, other, RenderOptions{}, image);
+  EXPECT_TRUE(diff.empty()) << diff;
+}
+
 // A bead floating above the sheet moves with the sheet under it: strokes under it reshape it
 // where they reach, at its heights, not the sheet's. The kept hits there are traced again.
 TEST(DirtyRegion, KeptHitsUnderASetOperationsToolAreTracedAgain) {
