@@ -35,6 +35,13 @@ std::string describe(const Case& c) {
          std::to_string(c.seed);
 }
 
+// The camera moved along its line of sight to f times its distance from the target.
+CameraSpec nearer(CameraSpec spec, double f) {
+  spec.eye = {spec.target.x + f * (spec.eye.x - spec.target.x), spec.target.y + f * (spec.eye.y - spec.target.y),
+              spec.target.z + f * (spec.eye.z - spec.target.z)};
+  return spec;
+}
+
 ShadingParams shading(const Model& m) {
   ShadingParams s;
   s.metal = *metalByName("brass");
@@ -328,11 +335,7 @@ TEST(DirtyRegion, KeptEdgeSamplesAreTheirCamerasOwn) {
   live.setAntialias(true);
   std::vector<Camera> views;
   for (int k = 0; k < 4; ++k) {
-    CameraSpec spec = piece.camera;
-    const double f = 1.0 - 0.12 * k;
-    spec.eye = {spec.target.x + f * (spec.eye.x - spec.target.x), spec.target.y + f * (spec.eye.y - spec.target.y),
-                spec.target.z + f * (spec.eye.z - spec.target.z)};
-    views.emplace_back(spec, 128, 80);
+    views.emplace_back(nearer(piece.camera, 1.0 - 0.12 * k), 128, 80);
   }
   const RenderOptions options;
   // The nearest view's frame; then the three others set (the last takes over its cache) and the
@@ -378,10 +381,7 @@ TEST(DirtyRegion, ASlotGrownAgainKeepsNoHitOfTheCameraBefore) {
   Model& model = scene.model;
   live.setShading(shading(model));
   live.sync(model);
-  CameraSpec nearer = piece.camera;
-  nearer.eye = {nearer.target.x + 0.8 * (nearer.eye.x - nearer.target.x), nearer.target.y + 0.8 * (nearer.eye.y - nearer.target.y),
-                nearer.target.z + 0.8 * (nearer.eye.z - nearer.target.z)};
-  const Camera view(piece.camera, 128, 80), other(nearer, 128, 80);
+  const Camera view(piece.camera, 128, 80), other(nearer(piece.camera, 0.8), 128, 80);
   const Camera small[3] = {Camera(piece.camera, 32, 20), Camera(piece.camera, 24, 15), Camera(piece.camera, 16, 10)};
   Image image;
   live.setCamera(view);
