@@ -149,20 +149,6 @@ std::optional<Renderer::Hit> Renderer::findHit(double sx, double sy, bool field,
   return hit;
 }
 
-Patina Renderer::patinaAt(double x, double y, std::vector<std::uint32_t>& scratch) const {
-  // The strokes of each tinge build up: 1 - prod(1 - amount), in any order.
-  Patina patina{};
-  std::array<double, 5> bare{1.0, 1.0, 1.0, 1.0, 1.0};
-  const size_t active = model_->activeCount();
-  for (std::uint32_t j : patinaGrid_.at(x, y, scratch)) {
-    if (j >= active) continue;
-    const PreparedOp& op = model_->operations()[j];
-    bare[static_cast<size_t>(op.op().tinge)] *= 1.0 - op.patinaAt(x, y);
-  }
-  for (size_t t = 1; t < bare.size(); ++t) patina.amount[t] = 1.0 - bare[t];
-  return patina;
-}
-
 bool Renderer::render(Image& image, const Rect& rectIn, RenderStats* stats, const std::atomic_bool* cancel) {
   return render(image, PixelSpans::of(grownWithin(rectIn, 0, camera_->width(), camera_->height())), stats, cancel);
 }
@@ -288,8 +274,8 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
     } else {
       std::fill_n(batch.cavity, batch.n, 0.0);
     }
-    // Every hit in lanes; those under a patina one at a time again, with it (without one, the
-    // same bits as the lanes').
+    // Every hit in lanes; those under a patina tinted after (shadeMetal() with the patina, bit for
+    // bit: its colour without it times patinaTint()).
     shadeMetal(shading_, batch);
     for (int j = 0; j < batch.n; ++j) {
       const Patina patina = hasPatina_ ? patinaAt(batch.px[j], batch.py[j], scratch) : Patina{};
@@ -297,9 +283,7 @@ bool Renderer::render(Image& image, const PixelSpans& spansIn, RenderStats* stat
         colourOf(j, glm::dvec3(batch.r[j], batch.g[j], batch.b[j]));
         continue;
       }
-      colourOf(j, shadeMetal(shading_, glm::dvec3(batch.px[j], batch.py[j], batch.pz[j]),
-                             glm::dvec3(batch.nx[j], batch.ny[j], batch.nz[j]),
-                             glm::dvec3(batch.vx[j], batch.vy[j], batch.vz[j]), batch.cavity[j], &patina));
+      colourOf(j, glm::dvec3(batch.r[j], batch.g[j], batch.b[j]) * patinaTint(shading_, batch.pz[j], batch.cavity[j], patina));
     }
     batch.n = 0;
   };

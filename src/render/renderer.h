@@ -15,6 +15,7 @@
 #include "render/camera.h"
 #include "render/height_field.h"
 #include "render/image.h"
+#include "render/patina_cache.h"
 #include "render/pixel_spans.h"
 #include "render/set_op_bins.h"
 #include "render/set_op_bounds.h"
@@ -94,6 +95,10 @@ struct RenderOptions {
   // bound, found once by intervals and kept until the model changes there), before the window's
   // own steps and interval tests (false: those alone; the same picture, slower; for comparison).
   bool pileTops = true;
+  // Patina strokes of a brush at least PatinaCache::kMinReach wide: a hit reads their amounts from
+  // a lattice of nodes kept block by block (patina_cache.h) instead of its distance to each stroke
+  // (false: every stroke worked out at every hit; nearly the same picture, slower; for comparison).
+  bool patinaLattice = true;
 };
 
 // Two tracers share one contract (docs/rendering.md): a pixel's colour depends on nothing but the
@@ -442,6 +447,15 @@ class Renderer {
   OpGrid grid_;
   // The patina strokes alone (a hit's colour looks them up), in cells as wide as grid_'s.
   OpGrid patinaGrid_{0.0, [](const Operation& o) { return o.isPatina(); }};
+  // The amounts of the strokes the lattice keeps (PatinaCache::kept()), and which strokes those are
+  // (their ids and supports: the blocks under one that comes or goes are forgotten at sync()).
+  PatinaCache patinaCache_;
+  std::vector<std::pair<std::uint64_t, Box2>> patinaKept_;
+  bool patinaLattice_ = false;  // the lattice serves this model (options_.patinaLattice when synced)
+  bool patinaExact_ = false;    // an active stroke the lattice does not keep: looked up at each hit
+  void syncPatina(const Model& model, bool followed);
+  // Fills a block of the lattice (PatinaCache::at()): the kept strokes' amounts at its nodes.
+  void patinaBlock(int i0, int j0, float* values) const;
   std::optional<Camera> camera_;
   ShadingParams shading_{};
   RenderOptions options_{};

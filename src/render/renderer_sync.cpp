@@ -48,8 +48,7 @@ void Renderer::sync(const Model& model) {
     fieldPeaks_.clear();
   }
   syncSetOps(model);
-  hasPatina_ = false;
-  for (size_t i = 0; i < model.activeCount() && !hasPatina_; ++i) hasPatina_ = model.operations()[i].op().isPatina();
+  syncPatina(model, followed);
   forgetMovedHits(followed, setIdsBefore);
   {
     // The pile's tops where f can have changed: where D and the shifts did, and the supports of
@@ -67,7 +66,7 @@ void Renderer::sync(const Model& model) {
 }
 
 size_t Renderer::memoryBytes() const {
-  size_t n = field_.memoryBytes() + grid_.memoryBytes() + patinaGrid_.memoryBytes();
+  size_t n = field_.memoryBytes() + grid_.memoryBytes() + patinaGrid_.memoryBytes() + patinaCache_.memoryBytes();
   if (workpieceKind_ == 4) n += columns_.memoryBytes() + outlineMask_.size();
   n += saved_.samples.samples.capacity() * sizeof(HeightField::Sample);
   for (size_t k = 0; k < setOps_.size(); ++k)

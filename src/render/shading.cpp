@@ -448,19 +448,28 @@ glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dv
   // brush's where it went. Liquor of sulphur settles in the hollows and wears off the high points.
   const double settle = std::max(std::clamp((s.frontZ - p.z) / s.tingeDepth, 0.0, 1.0), cavity);
   glm::dvec3 tint(1.0);
-  auto apply = [&](const Tinge& t, double amount, double floor) {
-    const double k = std::clamp(amount * (floor + (1.0 - floor) * settle), 0.0, 1.0);
-    tint *= glm::mix(glm::dvec3(1.0), glm::dvec3(t.color[0], t.color[1], t.color[2]), k);
-  };
-  if (s.tinge.strength > 0) apply(s.tinge, s.tinge.strength, 0.25);
-  if (patina)
-    for (size_t i = 1; i < patina->amount.size(); ++i)
-      if (patina->amount[i] > 0) apply(tinges()[i], patina->amount[i], 0.75);
+  if (s.tinge.strength > 0) tint *= tingeMix(s.tinge, s.tinge.strength, 0.25, settle);
   // Cavities see less of the room: the grooves' walls and the hollows under raised rims hide the
   // lights (specular occlusion from the height field; 0 on open metal).
   const double open = 1.0 - 0.75 * std::clamp(cavity, 0.0, 1.0);
   const glm::dvec3 spec = t.specular.lookup(r) * ss + irradianceMap().lookup(n) * ms;
-  return tint * spec * open;
+  const glm::dvec3 bare = tint * spec * open;
+  // The brush's tinges last, as a factor of the colour without them (the lanes' colour times
+  // patinaTint() is this, bit for bit).
+  return patina ? bare * patinaTint(s, p.z, cavity, *patina) : bare;
+}
+
+glm::dvec3 tingeMix(const Tinge& t, double amount, double floor, double settle) {
+  const double k = std::clamp(amount * (floor + (1.0 - floor) * settle), 0.0, 1.0);
+  return glm::mix(glm::dvec3(1.0), glm::dvec3(t.color[0], t.color[1], t.color[2]), k);
+}
+
+glm::dvec3 patinaTint(const ShadingParams& s, double z, double cavity, const Patina& patina) {
+  const double settle = std::max(std::clamp((s.frontZ - z) / s.tingeDepth, 0.0, 1.0), cavity);
+  glm::dvec3 tint(1.0);
+  for (size_t i = 1; i < patina.amount.size(); ++i)
+    if (patina.amount[i] > 0) tint *= tingeMix(tinges()[i], patina.amount[i], 0.75, settle);
+  return tint;
 }
 
 void shadeMetal(const ShadingParams& s, ShadeBatch& batch) {

@@ -36,10 +36,15 @@ struct Patina {
     return false;
   }
 };
-// `patina` (optional) tints the metal like the scene's tinge, settling into the hollows.
+// `patina` (optional) tints the metal like the scene's tinge, settling into the hollows: the colour
+// without it times patinaTint().
 glm::dvec3 shadeMetal(const ShadingParams& s, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& view,
                       double cavity = 0.0, const Patina* patina = nullptr);
 
+// The factor a patina tints a colour by at a hit at height z with that cavity term.
+glm::dvec3 patinaTint(const ShadingParams& s, double z, double cavity, const Patina& patina);
+// A tinge's factor for `amount` of it, `floor` of which stays on the high points (`settle` 0).
+glm::dvec3 tingeMix(const Tinge& t, double amount, double floor, double settle);
 struct ShadeBatch;
 // shadeMetal() for a batch of hits (render/shade_lanes.h) without a patina, in SIMD lanes: the
 // same bits, hit by hit, as one call each.

@@ -15,6 +15,7 @@
 #include "app/stroke_builder.h"
 #include "export/pov.h"
 #include "frep/kernels.h"
+#include "render/patina_cache.h"
 #include "render/renderer.h"
 #include "render/shading.h"
 #include "scene/scene.h"
@@ -277,6 +278,150 @@ TEST(Patina, BeyondTheStrokeTheMetalIsTheSameBytes) {
   EXPECT_GT(beyond, 1000);
   EXPECT_GT(under, 500);
   EXPECT_GT(darker, under * 3 / 4) << "the black stroke darkens the metal under it";
+}
+
+// The strokes of a wide brush are read from a lattice of nodes kept block by block: a stroke
+// that comes, grows (the kiosk's stroke in the making, replaced at each pen event) or goes
+// forgets the blocks under it, so a dirty update over a lattice read by the frames before gives
+// the bytes of a full render of a renderer that never saw them.
+TEST(Patina, AStrokeOverALatticeReadBeforeGivesTheBytesOfAFullRender) {
+  auto scene = parseScene(kScene, "patina.json", ".");
+  ASSERT_TRUE(scene);
+  auto model = scene->makeModel();
+  ASSERT_TRUE(model);
+  ASSERT_TRUE(PatinaCache::kept(model->operations()[1].op()));
+  ThreadPool pool(2);
+  const Camera camera(scene->camera, 160, 100);
+  ShadingParams s;
+  s.metal = *metalByName("copper");
+  s.frontZ = model->workpiece().bounds().z1;
+  auto fresh = [&](const Model& m) {
+    Renderer r(pool);
+    r.setCamera(camera);
+    r.setShading(s);
+    r.sync(m);
+    Image image;
+    EXPECT_TRUE(r.renderFull(image));
+    return image;
+  };
+  auto same = [](const Image& a, const Image& b, const char* what) {
+    int differ = 0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x)
+        for (int k = 0; k < 4; ++k) differ += a.pixel(x, y)[k] != b.pixel(x, y)[k];
+    EXPECT_EQ(differ, 0) << what;
+  };
+  Renderer r(pool);
+  r.setCamera(camera);
+  r.setShading(s);
+  r.sync(*model);
+  Image image;
+  ASSERT_TRUE(r.renderFull(image));  // (every block under the first stroke read)
+  const Image first = image;
+  // A green stroke across the black one, then the same stroke grown (the kiosk replaces its
+  // stroke in the making at each pen event), then undone.
+  Operation green;
+  green.kind = OpKind::Patina;
+  green.tinge = 3;
+  green.a = 3.0;
+  green.strength = 0.8;
+  green.points = {{-2, -8}, {1, -1}};
+  ASSERT_TRUE(model->add(green).ok());
+  r.sync(*model);
+  PixelSpans dirty = r.dirtySpans(*model, 2);
+  EXPECT_LT(dirty.area(), 160 * 100);
+  ASSERT_TRUE(r.render(image, dirty));
+  same(image, fresh(*model), "a stroke added");
+  const PixelSpans before = r.dirtySpans(*model, 2);
+  ASSERT_TRUE(model->undo());
+  green.points.push_back({3, 5});
+  ASSERT_TRUE(model->add(green).ok());
+  r.sync(*model);
+  ASSERT_TRUE(r.render(image, before.united(r.dirtySpans(*model, 2))));
+  same(image, fresh(*model), "the stroke grown");
+  ASSERT_TRUE(model->undo());
+  r.sync(*model);
+  ASSERT_TRUE(r.render(image, r.dirtySpans(*model, 2)));
+  same(image, first, "the stroke undone");
+  same(image, fresh(*model), "the stroke undone, against a fresh renderer");
+}
+
+// The lattice's amounts are the strokes' within a few levels of a byte: the picture with it and
+// with every stroke worked out at every hit (RenderOptions::patinaLattice false).
+TEST(Patina, TheLatticeIsTheStrokesWithinAFewLevels) {
+  auto scene = parseScene(kScene, "patina.json", ".");
+  ASSERT_TRUE(scene);
+  auto model = scene->makeModel();
+  ASSERT_TRUE(model);
+  ThreadPool pool(2);
+  const Camera camera(scene->camera, 320, 200);
+  auto picture = [&](bool lattice) {
+    Renderer r(pool);
+    RenderOptions o;
+    o.patinaLattice = lattice;
+    r.setOptions(o);
+    r.setCamera(camera);
+    ShadingParams s;
+    s.metal = *metalByName("copper");
+    s.frontZ = model->workpiece().bounds().z1;
+    r.setShading(s);
+    r.sync(*model);
+    Image image;
+    EXPECT_TRUE(r.renderFull(image));
+    EXPECT_EQ(r.memoryBytes() > 0, true);
+    return image;
+  };
+  const Image a = picture(true), b = picture(false);
+  int worst = 0, differ = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const int d = std::abs(a.pixel(x, y)[k] - b.pixel(x, y)[k]);
+        worst = std::max(worst, d), differ += d > 0;
+      }
+  EXPECT_LE(worst, 4);
+  EXPECT_LT(differ, a.width * a.height * 3 / 20);
+}
+
+// The lattice itself: a block is worked out once, on the first read, and read bilinearly; the
+// blocks under a region are forgotten and worked out again.
+TEST(Patina, TheLatticeKeepsABlockUntilARegionOverItIsForgotten) {
+  PatinaCache cache;
+  EXPECT_FALSE(cache.configure(Box2{-10, -10, 10, 10}));
+  EXPECT_TRUE(cache.configure(Box2{-10, -10, 10, 10}));
+  int fills = 0;
+  // A field linear in x and y, per tinge: bilinear interpolation gives it back.
+  auto fill = [&](int i0, int j0, float* v) {
+    ++fills;
+    for (int j = 0; j < PatinaCache::kBlockNodes; ++j)
+      for (int i = 0; i < PatinaCache::kBlockNodes; ++i)
+        for (int t = 0; t < PatinaCache::kTinges; ++t)
+          v[(j * PatinaCache::kBlockNodes + i) * PatinaCache::kTinges + t] =
+              static_cast<float>(0.5 + 0.01 * (t + 1) * cache.nodeX(i0 + i) - 0.02 * cache.nodeY(j0 + j));
+  };
+  double out[PatinaCache::kTinges];
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-9.9, 9.9);
+  for (int k = 0; k < 200; ++k) {
+    const double x = u(rng), y = u(rng);
+    ASSERT_TRUE(cache.covers(x, y));
+    cache.at(x, y, fill, out);
+    for (int t = 0; t < PatinaCache::kTinges; ++t) EXPECT_NEAR(out[t], 0.5 + 0.01 * (t + 1) * x - 0.02 * y, 1e-6);
+  }
+  // 20 mm at 4 mm a block (16 cells of 0.25 mm): 5 x 5 blocks.
+  EXPECT_EQ(fills, 25);
+  EXPECT_EQ(cache.blocksWorkedOut(), 25u);
+  EXPECT_EQ(cache.memoryBytes(), 25 * PatinaCache::kBlockFloats * sizeof(float));
+  cache.at(0.0, 0.0, fill, out);
+  EXPECT_EQ(fills, 25) << "a block is worked out once";
+  // The region's block and those around it (a block's edge nodes are its neighbours' too).
+  cache.invalidate(Box2{-1, -1, 1, 1});
+  EXPECT_EQ(cache.blocksWorkedOut(), 25u - 9u);
+  cache.at(0.0, 0.0, fill, out);
+  EXPECT_EQ(fills, 26);
+  EXPECT_FALSE(cache.covers(10.5, 0.0));
+  cache.clear();
+  EXPECT_EQ(cache.blocksWorkedOut(), 0u);
 }
 
 TEST(Patina, TheKioskBrushLaysOneStrokeWhenThePenLifts) {
