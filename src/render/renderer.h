@@ -95,6 +95,9 @@ struct RenderOptions {
   // bound, found once by intervals and kept until the model changes there), before the window's
   // own steps and interval tests (false: those alone; the same picture, slower; for comparison).
   bool pileTops = true;
+  // Field tracer: a ball's window is the ray's stretch in the capsule where it can act, not in its
+  // box alone (SetOp::round; false: the box; the same picture, slower; for comparison).
+  bool roundWindows = true;
   // Patina strokes of a brush at least PatinaCache::kMinReach wide: a hit reads their amounts from
   // a lattice of nodes kept block by block (patina_cache.h) instead of its distance to each stroke
   // (false: every stroke worked out at every hit; nearly the same picture, slower; for comparison).
@@ -278,6 +281,12 @@ class Renderer {
     // millionth of the box's largest coordinate, past the rounding of the ray's points and of the
     // z range's margin.
     double hair = 0.0;
+    // A ball's (a sphere tool's): where it can change f is a capsule standing upright, the points
+    // within `radius` (its own, kSupportSpan tool sizes and a margin) of its centre moved by any
+    // shift between the shift field's bounds, from (cx, cy, czlo) to (cx, cy, czhi). A ray's window
+    // is its stretch in the capsule and the box: about a fifth of the box's rays miss the capsule.
+    bool round = false;
+    double cx = 0.0, cy = 0.0, czlo = 0.0, czhi = 0.0, radius = 0.0;
     SetOpUpper upper;  // its upper bounds: over a box (second pass), wherever its tool is (first pass)
     std::uint64_t id = 0;
     // The offsets after it, summed over its support: the shift that moves its tool with the

@@ -93,6 +93,52 @@ class RayClip {
   bool along_[3];  // the ray is not parallel to the axis
 };
 
+// The stretch [t0, t1] (t >= 0) of a ray within `radius` of the vertical segment from (x, y, z0) to
+// (x, y, z1), z0 <= z1 (a capsule standing upright): false when the ray misses it. The capsule is
+// convex, so the stretch is the hull of the ray's stretches in its side and in its two end balls.
+// Near a tangent the roots are as good as the discriminant: a caller grows the radius by more.
+inline bool clipUprightCapsule(const Ray& ray, double x, double y, double z0, double z1, double radius, double& t0,
+                               double& t1) {
+  const glm::dvec3& o = ray.origin;
+  const glm::dvec3& d = ray.dir;
+  const double r2 = radius * radius, ox = o.x - x, oy = o.y - y;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  // The side: the infinite cylinder within the slab z0..z1.
+  const double a = d.x * d.x + d.y * d.y, b = ox * d.x + oy * d.y, c = ox * ox + oy * oy - r2;
+  double sa = -1e300, sb = 1e300;
+  if (a > 0.0) {
+    const double disc = b * b - a * c;
+    if (disc >= 0.0) {
+      const double root = std::sqrt(disc);
+      sa = (-b - root) / a, sb = (-b + root) / a;
+    } else {
+      sa = 1.0, sb = 0.0;
+    }
+  } else if (c > 0.0) {
+    sa = 1.0, sb = 0.0;
+  }
+  if (d.z != 0.0) {
+    double za = (z0 - o.z) / d.z, zb = (z1 - o.z) / d.z;
+    if (za > zb) std::swap(za, zb);
+    sa = std::max(sa, za), sb = std::min(sb, zb);
+  } else if (o.z < z0 || o.z > z1) {
+    sa = 1.0, sb = 0.0;
+  }
+  if (sa <= sb) lo = sa, hi = sb;
+  // The end balls.
+  const double dd = glm::dot(d, d);
+  for (const double z : {z0, z1}) {
+    const double oz = o.z - z;
+    const double bb = b + oz * d.z, cc = ox * ox + oy * oy + oz * oz - r2;
+    const double disc = bb * bb - dd * cc;
+    if (disc < 0.0) continue;
+    const double root = std::sqrt(disc);
+    lo = std::min(lo, (-bb - root) / dd), hi = std::max(hi, (-bb + root) / dd);
+  }
+  t0 = std::max(lo, 0.0), t1 = hi;
+  return t0 < t1;
+}
+
 // RayClip for one box.
 inline bool clipRay(const Ray& ray, const Box3& b, double& t0, double& t1) { return RayClip(ray)(b, t0, t1); }
 
@@ -187,6 +233,9 @@ struct Renderer::RayContext {
   // raise(), summed; +infinity with a union among them): inside window i, f <= W + winRaise[i].
   double winRaise[kMaxWindows];
   int windows = 0;
+  // Of the set operations listed, those without a window of their own (passed within a hair of
+  // their box, not through it): a walk in lanes stops where it may enter their supports.
+  int unwindowed = 0;
   bool inWindow(long qa, long qb) const {
     for (int i = 0; i < windows; ++i)
       if (winLo[i] <= qb && qa <= winHi[i]) return true;

@@ -37,12 +37,16 @@ bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& en
     walk.prevQ = walk.q0 - 2;
   }
   if (walk.q >= walk.q1 || walk.known || rc.inWindow(walk.q, walk.q)) return false;
-  // The lane stops at the next window, the next skip, the clip's end, or where the ray's (x, y)
-  // may enter a set operation's support (two points early: f there is not the workpiece's alone).
+  // The lane stops at the next window, the next skip, the clip's end, or, when a set operation is
+  // listed without a window (passed within a hair of its box), where the ray's (x, y) may enter a
+  // set operation's support (two points early: f there may not be the workpiece's alone). A set
+  // operation whose box (a ball's: capsule) the ray crosses changes f only in the stretch its
+  // window holds with a point to spare each way (beginWalkFrom()): before it f is W.
   window = rc.nextWindow(walk.q + 1, walk.q1 + 1);  // (q is in none: the first after it)
   end = std::min(walk.q1, window);
   for (int i = 0; i < rc.skips; ++i)
     if (rc.skipLo[i] > walk.q) end = std::min(end, rc.skipLo[i]);
+  if (rc.unwindowed == 0) return true;
   const RayClip clip(walk.ray);
   for (int k = 0; k < rc.setOpCount; ++k) {
     const Box2& s = rc.setOps[k]->support;

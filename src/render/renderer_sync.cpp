@@ -498,6 +498,14 @@ void Renderer::refreshSetOpRanges() {
     s.toolZlo = tb.z0 - reach - margin, s.toolZhi = tb.z1 + reach + margin;
     s.hair = 1e-6 * (1.0 + std::max({std::abs(s.support.x0), std::abs(s.support.x1), std::abs(s.support.y0),
                                      std::abs(s.support.y1), std::abs(s.zlo), std::abs(s.zhi)}));
+    s.round = o.tool.type == ToolShape::Type::Sphere;
+    if (s.round) {
+      // combine() is the identity where the distance from the tool's surface, |p' - c| - r with p'
+      // the point less the shift, is kSupportSpan tool sizes or more.
+      s.cx = o.tool.center.x, s.cy = o.tool.center.y;
+      s.czlo = o.tool.center.z + shift.lo, s.czhi = o.tool.center.z + shift.hi;
+      s.radius = o.tool.r + reach + margin;
+    }
   }
 }
 

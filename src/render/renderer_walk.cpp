@@ -47,7 +47,7 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
 
   RayContext& rc = walk.rc;  // (its lists' arrays are read only up to their counts)
   rc.setOps = nullptr, rc.setOpCount = 0, rc.dense = false, rc.lipschitz = false, rc.lf = 0.0;
-  rc.windows = 0, rc.skips = 0;
+  rc.windows = 0, rc.skips = 0, rc.unwindowed = 0;
   const Box2 reach = start.reach;
   // The set operations the ray can meet: of those whose support meets its reach, those whose box
   // (the support, the z range) the ray crosses or passes within a hair of (SetOp::hair: the ray's
@@ -62,10 +62,32 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   double listedRaise = 0.0;  // of those listed without crossing their box: they count in every window
   rayOps.clear();
   const RayClip clip(ray);
+  const bool roundWindows = options_.roundWindows;
   setOpSupports_.meeting(reach, [&](std::uint32_t k) {
     const SetOp& s = setOps_[k];
     const Box3 box{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi};
     double ta, tb;
+    if (s.round && roundWindows) {
+      // A ball: its capsule (grown by the hair, past the roots' rounding) within the box. A ray
+      // that misses it passes a region where f is exactly W's: not listed.
+      double ca, cb;
+      if (clip(box, ta, tb) && clipUprightCapsule(ray, s.cx, s.cy, s.czlo, s.czhi, s.radius + s.hair, ca, cb) &&
+          std::max(ta, ca) < std::min(tb, cb)) {
+        ta = std::max(ta, ca), tb = std::min(tb, cb);
+        const double raise = s.upper.raise();
+        if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = raise;
+        ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb), denseRaise += raise;
+      } else {
+        if (options_.cullRaySetOps) {
+          ++st.setOpsLeftOut;
+          return;
+        }
+        listedRaise += s.upper.raise();
+        ++rc.unwindowed;
+      }
+      rayOps.push_back(&s);
+      return;
+    }
     if (clip(box, ta, tb)) {
       const double raise = s.upper.raise();
       if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = raise;
@@ -79,6 +101,7 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
         }
       }
       listedRaise += s.upper.raise();
+      ++rc.unwindowed;
     }
     rayOps.push_back(&s);
   });

@@ -14,6 +14,7 @@
 #include "frep/workpieces.h"
 #include "bench/piece_generator.h"
 #include "render/renderer.h"
+#include "render/renderer_internal.h"  // clipUprightCapsule()
 #include "render/walk_lanes.h"
 #include "tools/metal.h"
 
@@ -111,6 +112,83 @@ TEST(WalkLanes, SetOperationsGiveTheSameBytesAsEveryWalkAlone) {
   PieceOptions opt;
   opt.width = 80, opt.height = 60, opt.toolScale = 2.0;
   expectPiece(opt, 120, 43, 4, "plate with set operations");
+}
+
+// A ball's window is the ray's stretch in the capsule where it can change f (the box's corners
+// left out), and a lane walks to it over the ball's support: the same bytes as the box's windows,
+// with offsets after the balls (their shift fields make the capsule tall), from every view; and
+// the capsule does leave rays out.
+TEST(WalkLanes, ABallsRoundWindowGivesTheBytesOfItsBox) {
+  PieceOptions opt;
+  opt.width = 80, opt.height = 60, opt.toolScale = 2.0;
+  const GeneratedPiece piece = generatePiece(120, 44, opt);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  PieceRandom rng(9);
+  for (int k = 0; k < 5; ++k) ASSERT_TRUE(model->add(randomSetOperation(rng, piece, opt.toolScale)).ok());
+  for (int k = 0; k < 12; ++k) ASSERT_TRUE(model->add(randomPunch(rng, piece, opt.toolScale)).ok());
+  ThreadPool pool(2);
+  std::uint64_t leftOut[2] = {0, 0}, dense = 0;
+  for (const CameraSpec& view : viewsOf(piece.camera)) {
+    const Camera camera(view, 200, 130);
+    Image images[2];
+    for (int round = 0; round < 2; ++round) {
+      Renderer r(pool);
+      RenderOptions o;
+      o.roundWindows = round == 1;
+      r.setOptions(o);
+      r.setCamera(camera);
+      r.setShading(shading(*model));
+      r.sync(*model);
+      RenderStats st;
+      ASSERT_TRUE(r.renderFull(images[round], &st));
+      leftOut[round] += st.setOpsLeftOut, dense += st.denseRays;
+    }
+    int differing = 0;
+    const std::string first = compare(images[0], images[1], differing);
+    EXPECT_EQ(differing, 0) << "first at " << first;
+  }
+  EXPECT_EQ(dense, 0u) << "(a dense ray's window is sampled: the comparison wants none)";
+  EXPECT_GT(leftOut[1], leftOut[0] + 1000) << "the capsules leave out the rays through their boxes' corners";
+}
+
+// The capsule's stretch of a ray against points along it: inside within the radius, outside
+// beyond it (rays from every side, through, past and along the axis).
+TEST(WalkLanes, AnUprightCapsulesStretchHoldsThePointsWithinItsRadius) {
+  using render_internal::clipUprightCapsule;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double x = 2.0, y = -1.0, z0 = 0.5, z1 = 3.0, radius = 1.5;
+  auto distance = [&](const glm::dvec3& p) {
+    const double z = std::clamp(p.z, z0, z1);
+    return std::sqrt((p.x - x) * (p.x - x) + (p.y - y) * (p.y - y) + (p.z - z) * (p.z - z));
+  };
+  int met = 0, missed = 0;
+  for (int k = 0; k < 2000; ++k) {
+    glm::dvec3 o(x + 6.0 * u(rng), y + 6.0 * u(rng), 1.75 + 6.0 * u(rng));
+    // Toward a point near the capsule (within 2 of its middle along each axis).
+    glm::dvec3 d = glm::dvec3(x + 2.0 * u(rng), y + 2.0 * u(rng), 1.75 + 2.0 * u(rng)) - o;
+    if (k % 10 == 0) d = glm::dvec3(0.0, 0.0, -1.0), o.z = 8.0;  // vertical
+    if (k % 10 == 1) d.z = 0.0;                                  // level
+    if (glm::length(d) < 1e-3) continue;
+    d = glm::normalize(d);
+    const Ray ray{o, d};
+    double t0 = 0.0, t1 = 0.0;
+    const bool hit = clipUprightCapsule(ray, x, y, z0, z1, radius, t0, t1);
+    met += hit, missed += !hit;
+    for (int i = 0; i <= 400; ++i) {
+      const double t = 0.05 * i;
+      const double dist = distance(o + t * d);
+      const bool in = hit && t >= t0 && t <= t1;
+      if (in) {
+        ASSERT_LE(dist, radius + 1e-9) << k << " at t " << t;
+      } else {
+        ASSERT_GE(dist, radius - 1e-9) << k << " at t " << t << (hit ? " (met)" : " (missed)");
+      }
+    }
+  }
+  EXPECT_GT(met, 200);
+  EXPECT_GT(missed, 200);
 }
 
 // Under a patina the rays are still found in lanes (only the metal is shaded a hit at a time): a
