@@ -71,7 +71,17 @@ PixelSpans Renderer::dirtySpansOfRays(const Model& model, size_t index) const {
     const Box3 t = op.op().tool.bounds();
     const double r = kernels::kSupportSpan * op.op().tool.size() + shift + cell;
     const Box2 s = op.support().grown(cell);
-    return PixelSpans::of(projectBox({s.x0, s.y0, t.z0 - r, s.x1, s.y1, t.z1 + r}));
+    const Box3 box{s.x0, s.y0, t.z0 - r, s.x1, s.y1, t.z1 + r};
+    if (op.op().tool.type == ToolShape::Type::Sphere && options_.roundWindows) {
+      // A ball changes f only within its capsule (SetOp::round: its radius and kSupportSpan tool
+      // sizes round its centre's column): the pixels of that column between the box's heights.
+      const ToolShape& tool = op.op().tool;
+      PreparedOp::SupportPieces column;
+      column.pieces = {{Vec2{tool.center.x, tool.center.y}}};
+      column.radius = tool.r + kernels::kSupportSpan * tool.size();
+      return piecesSpans(*camera_, column, cell, box);
+    }
+    return PixelSpans::of(projectBox(box));
   }
   // An offset changes the samples under its support, and through the Hermite stencil (the
   // twists read the neighbours' slopes) the patches up to two samples further. A patina stroke

@@ -584,6 +584,49 @@ TEST(DirtyRegion, AStrokesSpansHoldWhatItChangesAndLessThanItsRectangle) {
   }
 }
 
+// A ball (a sphere tool's set operation) changes the pixels of its capsule's column, not of its
+// box: its spans hold every pixel it changes and are smaller than the box's projection.
+TEST(DirtyRegion, ABallsSpansAreItsColumnsNotItsBox) {
+  const GeneratedPiece piece = generatePiece(60, 22, PieceOptions{PieceShape::Plate, 60.0, 40.0, 0.4, Deformation::Sheet, 1.0});
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  ThreadPool pool(2);
+  for (int view = 0; view < 2; ++view) {
+    CameraSpec spec = piece.camera;
+    if (view == 1) spec.eye = {25, -45, 40};
+    const Camera camera(spec, 480, 300);
+    Renderer r(pool), boxes(pool);
+    RenderOptions o;
+    o.roundWindows = false;
+    boxes.setOptions(o);
+    for (Renderer* x : {&r, &boxes}) x->setCamera(camera), x->setShading(shading(*model)), x->sync(*model);
+    Image before;
+    ASSERT_TRUE(r.renderFull(before));
+    PieceRandom rng(11 + view);
+    long spanPixels = 0, boxPixels = 0;
+    for (int k = 0; k < 4; ++k) {
+      SCOPED_TRACE("view " + std::to_string(view) + ", ball " + std::to_string(k));
+      ASSERT_TRUE(model->add(randomSetOperation(rng, piece, 1.0)).ok());
+      r.sync(*model), boxes.sync(*model);
+      const PixelSpans dirty = r.dirtySpans(*model, model->activeCount() - 1);
+      Image after;
+      ASSERT_TRUE(r.renderFull(after));
+      int changed = 0;
+      for (int y = 0; y < after.height; ++y)
+        for (int x = 0; x < after.width; ++x)
+          if (std::memcmp(after.pixel(x, y), before.pixel(x, y), 4) != 0) {
+            ++changed;
+            ASSERT_TRUE(dirty.contains(x, y)) << "pixel (" << x << ", " << y << ") changed outside the spans";
+          }
+      EXPECT_GT(changed, 0);
+      spanPixels += dirty.area(), boxPixels += boxes.dirtySpans(*model, model->activeCount() - 1).area();
+      model->undo();
+      r.sync(*model), boxes.sync(*model);
+    }
+    EXPECT_LT(spanPixels, boxPixels * 9 / 10) << "view " << view;
+  }
+}
+
 // Longer runs, more seeds and larger pictures.
 // Pixels outside the projection of the clip box are taken as misses without a ray: the picture
 // is the one every pixel's ray gives, seen from above, at a slant, close up (the plate beyond the
