@@ -23,7 +23,8 @@ bool PatinaCache::configure(const Box2& domain) {
 
 void PatinaCache::clear() {
   if (!blocks_) return;
-  for (size_t k = 0; k < static_cast<size_t>(bx_) * by_; ++k) delete[] blocks_[k].exchange(nullptr);
+  for (size_t k = 0; k < static_cast<size_t>(bx_) * by_; ++k)
+    if (float* b = blocks_[k].exchange(nullptr)) release(b);
   allocated_ = 0;
 }
 
@@ -38,7 +39,7 @@ void PatinaCache::invalidate(const Box2& region) {
   if (region.x1 < domain_.x0 || region.y1 < domain_.y0 || region.x0 > xMax_ || region.y0 > yMax_) return;
   for (int j = j0; j <= j1; ++j)
     for (int i = i0; i <= i1; ++i)
-      if (float* b = blocks_[static_cast<size_t>(j) * bx_ + i].exchange(nullptr)) {
+      if (float* b = blocks_[static_cast<size_t>(j) * bx_ + i].exchange(nullptr); b && b != zeroBlock()) {
         delete[] b;
         --allocated_;
       }

@@ -3,6 +3,7 @@
 // "The patina's lattice").
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstddef>
@@ -52,8 +53,9 @@ class PatinaCache {
   // The amounts of the kept strokes at (x, y), which covers() holds, by tinge (out[0] black ..
   // out[3] golden): the bilinear interpolation of its cell's nodes. A block not yet worked out is
   // worked out by `fill(i0, j0, values)` (its first node's indices; kBlockFloats values, node by
-  // node along x then y, kTinges each), which may run on several threads at once for one block:
-  // the first to finish keeps its values (each gives the same).
+  // node along x then y, kTinges each; false, without writing them: no kept stroke reaches the
+  // block, whose amounts are all 0 and take no memory), which may run on several threads at once
+  // for one block: the first to finish keeps its values (each gives the same).
   template <class Fill>
   void at(double x, double y, const Fill& fill, double out[kTinges]) const {
     const double u = (x - domain_.x0) * kInv, v = (y - domain_.y0) * kInv;
@@ -76,20 +78,35 @@ class PatinaCache {
   }
 
   size_t memoryBytes() const { return allocated_.load() * kBlockFloats * sizeof(float); }
+  // The blocks worked out that hold a stroke's amounts (the others share one block of zeros).
   size_t blocksWorkedOut() const { return allocated_.load(); }
 
  private:
   static constexpr double kInv = 1.0 / kSpacing;
+  // The block of a region no kept stroke reaches (shared, never written).
+  static float* zeroBlock() {
+    alignas(64) static float zeros[kBlockFloats] = {};
+    return zeros;
+  }
   template <class Fill>
   float* workOut(std::atomic<float*>& slot, int bi, int bj, const Fill& fill) const {
-    auto values = std::make_unique<float[]>(kBlockFloats);
-    fill(bi * kBlockCells, bj * kBlockCells, values.get());
+    thread_local std::unique_ptr<float[]> scratch;
+    if (!scratch) scratch = std::make_unique<float[]>(kBlockFloats);
     float* expected = nullptr;
+    if (!fill(bi * kBlockCells, bj * kBlockCells, scratch.get())) {
+      if (slot.compare_exchange_strong(expected, zeroBlock(), std::memory_order_acq_rel)) return zeroBlock();
+      return expected;
+    }
+    auto values = std::make_unique<float[]>(kBlockFloats);
+    std::copy(scratch.get(), scratch.get() + kBlockFloats, values.get());
     if (slot.compare_exchange_strong(expected, values.get(), std::memory_order_acq_rel)) {
       ++allocated_;
       return values.release();
     }
     return expected;  // another thread's, the same values
+  }
+  static void release(float* block) {
+    if (block != zeroBlock()) delete[] block;
   }
 
   Box2 domain_{};

@@ -463,8 +463,9 @@ class Renderer {
   bool patinaLattice_ = false;  // the lattice serves this model (options_.patinaLattice when synced)
   bool patinaExact_ = false;    // an active stroke the lattice does not keep: looked up at each hit
   void syncPatina(const Model& model, bool followed);
-  // Fills a block of the lattice (PatinaCache::at()): the kept strokes' amounts at its nodes.
-  void patinaBlock(int i0, int j0, float* values) const;
+  // Fills a block of the lattice (PatinaCache::at()): the kept strokes' amounts at its nodes
+  // (false, nothing written: none reaches it).
+  bool patinaBlock(int i0, int j0, float* values) const;
   std::optional<Camera> camera_;
   ShadingParams shading_{};
   RenderOptions options_{};

@@ -50,7 +50,7 @@ void Renderer::syncPatina(const Model& model, bool followed) {
   patinaKept_ = std::move(kept);
 }
 
-void Renderer::patinaBlock(int i0, int j0, float* values) const {
+bool Renderer::patinaBlock(int i0, int j0, float* values) const {
   constexpr int n = PatinaCache::kBlockNodes;
   const Box2 box{patinaCache_.nodeX(i0), patinaCache_.nodeY(j0), patinaCache_.nodeX(i0 + n - 1),
                  patinaCache_.nodeY(j0 + n - 1)};
@@ -62,6 +62,7 @@ void Renderer::patinaBlock(int i0, int j0, float* values) const {
     const PreparedOp& op = model_->operations()[k];
     if (k < active && PatinaCache::kept(op.op()) && op.support().overlaps(box)) strokes.push_back(&op);
   }
+  if (strokes.empty()) return false;
   // A node's amounts from the strokes over it in the model's order (as a hit's: 1 - prod(1 -
   // amount) per tinge); a stroke whose support misses the node gives 0 there exactly, so a node
   // two blocks share has the same bits in both.
@@ -75,6 +76,7 @@ void Renderer::patinaBlock(int i0, int j0, float* values) const {
       for (int t = 0; t < PatinaCache::kTinges; ++t) v[t] = static_cast<float>(1.0 - bare[static_cast<size_t>(t) + 1]);
     }
   }
+  return true;
 }
 
 Patina Renderer::patinaAt(double x, double y, std::vector<std::uint32_t>& scratch) const {
@@ -85,7 +87,7 @@ Patina Renderer::patinaAt(double x, double y, std::vector<std::uint32_t>& scratc
   const bool lattice = patinaLattice_ && !patinaKept_.empty() && patinaCache_.covers(x, y);
   if (lattice) {
     double a[PatinaCache::kTinges];
-    patinaCache_.at(x, y, [&](int i0, int j0, float* values) { patinaBlock(i0, j0, values); }, a);
+    patinaCache_.at(x, y, [&](int i0, int j0, float* values) { return patinaBlock(i0, j0, values); }, a);
     for (int t = 0; t < PatinaCache::kTinges; ++t) bare[static_cast<size_t>(t) + 1] = 1.0 - a[t];
     if (!patinaExact_) {
       for (size_t t = 1; t < bare.size(); ++t) patina.amount[t] = 1.0 - bare[t];

@@ -398,6 +398,7 @@ TEST(Patina, TheLatticeKeepsABlockUntilARegionOverItIsForgotten) {
         for (int t = 0; t < PatinaCache::kTinges; ++t)
           v[(j * PatinaCache::kBlockNodes + i) * PatinaCache::kTinges + t] =
               static_cast<float>(0.5 + 0.01 * (t + 1) * cache.nodeX(i0 + i) - 0.02 * cache.nodeY(j0 + j));
+    return true;
   };
   double out[PatinaCache::kTinges];
   std::mt19937 rng(7);
@@ -422,6 +423,24 @@ TEST(Patina, TheLatticeKeepsABlockUntilARegionOverItIsForgotten) {
   EXPECT_FALSE(cache.covers(10.5, 0.0));
   cache.clear();
   EXPECT_EQ(cache.blocksWorkedOut(), 0u);
+  // Blocks no stroke reaches: read as zeros, worked out once, holding no memory of their own.
+  int empty = 0;
+  auto none = [&](int, int, float*) {
+    ++empty;
+    return false;
+  };
+  for (double y = -9.5; y < 10.0; y += 1.0)
+    for (double x = -9.5; x < 10.0; x += 1.0) {
+      cache.at(x, y, none, out);
+      for (int t = 0; t < PatinaCache::kTinges; ++t) EXPECT_EQ(out[t], 0.0);
+    }
+  EXPECT_EQ(empty, 25);
+  EXPECT_EQ(cache.blocksWorkedOut(), 0u);
+  EXPECT_EQ(cache.memoryBytes(), 0u);
+  cache.invalidate(Box2{-1, -1, 1, 1});
+  cache.at(0.0, 0.0, fill, out);
+  EXPECT_EQ(fills, 27);
+  EXPECT_EQ(cache.blocksWorkedOut(), 1u);
 }
 
 TEST(Patina, TheKioskBrushLaysOneStrokeWhenThePenLifts) {
