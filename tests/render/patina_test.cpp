@@ -33,6 +33,14 @@ const char* kScene = R"({"format": "emboss-scene", "version": 1, "metal": "coppe
     {"op": "patina", "tinge": "black", "points": [[-14, 0], [14, 0]], "r": 4, "strength": 1.0}
   ]})";
 
+// Copper, lit for the model's front face.
+ShadingParams copper(const Model& model) {
+  ShadingParams s;
+  s.metal = *metalByName("copper");
+  s.frontZ = model.workpiece().bounds().z1;
+  return s;
+}
+
 TEST(Patina, SceneFormatReadsAndWritesIt) {
   auto scene = parseScene(kScene, "patina.json", ".");
   ASSERT_TRUE(scene) << scene.error();
@@ -194,9 +202,7 @@ TEST(Patina, UndoTakesItAwayExactly) {
   ThreadPool pool(2);
   Renderer r(pool);
   r.setCamera(Camera(scene->camera, 160, 100));
-  ShadingParams s;
-  s.metal = *metalByName("copper");
-  s.frontZ = model->workpiece().bounds().z1;
+  const ShadingParams s = copper(*model);
   r.setShading(s);
   r.sync(*model);
   Image before;
@@ -237,9 +243,7 @@ TEST(Patina, BeyondTheStrokeTheMetalIsTheSameBytes) {
   auto picture = [&](const Model& model) {
     Renderer r(pool);
     r.setCamera(camera);
-    ShadingParams s;
-    s.metal = *metalByName("copper");
-    s.frontZ = model.workpiece().bounds().z1;
+    const ShadingParams s = copper(model);
     r.setShading(s);
     r.sync(model);
     Image image;
@@ -292,9 +296,7 @@ TEST(Patina, AStrokeOverALatticeReadBeforeGivesTheBytesOfAFullRender) {
   ASSERT_TRUE(PatinaCache::kept(model->operations()[1].op()));
   ThreadPool pool(2);
   const Camera camera(scene->camera, 160, 100);
-  ShadingParams s;
-  s.metal = *metalByName("copper");
-  s.frontZ = model->workpiece().bounds().z1;
+  const ShadingParams s = copper(*model);
   auto fresh = [&](const Model& m) {
     Renderer r(pool);
     r.setCamera(camera);
@@ -361,14 +363,12 @@ TEST(Patina, TheLatticeIsTheStrokesWithinAFewLevels) {
     o.patinaLattice = lattice;
     r.setOptions(o);
     r.setCamera(camera);
-    ShadingParams s;
-    s.metal = *metalByName("copper");
-    s.frontZ = model->workpiece().bounds().z1;
+    const ShadingParams s = copper(*model);
     r.setShading(s);
     r.sync(*model);
     Image image;
     EXPECT_TRUE(r.renderFull(image));
-    EXPECT_EQ(r.memoryBytes() > 0, true);
+    EXPECT_GT(r.memoryBytes(), 0u);
     return image;
   };
   const Image a = picture(true), b = picture(false);

@@ -54,6 +54,19 @@ std::vector<CameraSpec> viewsOf(const CameraSpec& base) {
   return out;
 }
 
+// A full frame of the model with these options.
+Image frameWith(ThreadPool& pool, const Model& model, const Camera& camera, const RenderOptions& options,
+                RenderStats& stats) {
+  Renderer r(pool);
+  r.setOptions(options);
+  r.setCamera(camera);
+  r.setShading(shading(model));
+  r.sync(model);
+  Image image;
+  EXPECT_TRUE(r.renderFull(image, &stats));
+  return image;
+}
+
 void expectSameWithAndWithoutLanes(const Model& model, const CameraSpec& base, const std::string& what) {
   ThreadPool pool(2);
   const std::vector<CameraSpec> views = viewsOf(base);
@@ -63,14 +76,9 @@ void expectSameWithAndWithoutLanes(const Model& model, const CameraSpec& base, c
     Image images[2];
     RenderStats stats[2];
     for (int lanes = 0; lanes < 2; ++lanes) {
-      Renderer r(pool);
       RenderOptions o;
       o.walkLanes = lanes == 1;
-      r.setOptions(o);
-      r.setCamera(camera);
-      r.setShading(shading(model));
-      r.sync(model);
-      r.renderFull(images[lanes], &stats[lanes]);
+      images[lanes] = frameWith(pool, model, camera, o, stats[lanes]);
     }
     int differing = 0;
     const std::string first = compare(images[0], images[1], differing);
@@ -133,15 +141,10 @@ TEST(WalkLanes, ABallsRoundWindowGivesTheBytesOfItsBox) {
     const Camera camera(view, 200, 130);
     Image images[2];
     for (int round = 0; round < 2; ++round) {
-      Renderer r(pool);
       RenderOptions o;
       o.roundWindows = round == 1;
-      r.setOptions(o);
-      r.setCamera(camera);
-      r.setShading(shading(*model));
-      r.sync(*model);
       RenderStats st;
-      ASSERT_TRUE(r.renderFull(images[round], &st));
+      images[round] = frameWith(pool, *model, camera, o, st);
       leftOut[round] += st.setOpsLeftOut, dense += st.denseRays;
     }
     int differing = 0;
