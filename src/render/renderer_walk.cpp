@@ -66,36 +66,25 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   setOpSupports_.meeting(reach, [&](std::uint32_t k) {
     const SetOp& s = setOps_[k];
     const Box3 box{s.support.x0, s.support.y0, s.zlo, s.support.x1, s.support.y1, s.zhi};
+    // A ball's window is its capsule (grown by the hair, past the roots' rounding) within the box;
+    // a ray that misses the capsule passes where f is exactly W's, and is not listed.
+    const bool ball = s.round && roundWindows;
     double ta, tb;
-    if (s.round && roundWindows) {
-      // A ball: its capsule (grown by the hair, past the roots' rounding) within the box. A ray
-      // that misses it passes a region where f is exactly W's: not listed.
+    bool crosses = clip(box, ta, tb);
+    if (crosses && ball) {
       double ca, cb;
-      if (clip(box, ta, tb) && clipUprightCapsule(ray, s.cx, s.cy, s.czlo, s.czhi, s.radius + s.hair, ca, cb) &&
-          std::max(ta, ca) < std::min(tb, cb)) {
-        ta = std::max(ta, ca), tb = std::min(tb, cb);
-        const double raise = s.upper.raise();
-        if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = raise;
-        ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb), denseRaise += raise;
-      } else {
-        if (options_.cullRaySetOps) {
-          ++st.setOpsLeftOut;
-          return;
-        }
-        listedRaise += s.upper.raise();
-        ++rc.unwindowed;
-      }
-      rayOps.push_back(&s);
-      return;
+      crosses = clipUprightCapsule(ray, s.cx, s.cy, s.czlo, s.czhi, s.radius + s.hair, ca, cb) &&
+                std::max(ta, ca) < std::min(tb, cb);
+      if (crosses) ta = std::max(ta, ca), tb = std::min(tb, cb);
     }
-    if (clip(box, ta, tb)) {
+    if (crosses) {
       const double raise = s.upper.raise();
       if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = raise;
       ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb), denseRaise += raise;
     } else {
       if (options_.cullRaySetOps) {
         const double h = s.hair;
-        if (!clip(Box3{box.x0 - h, box.y0 - h, box.z0 - h, box.x1 + h, box.y1 + h, box.z1 + h}, ta, tb)) {
+        if (ball || !clip(Box3{box.x0 - h, box.y0 - h, box.z0 - h, box.x1 + h, box.y1 + h, box.z1 + h}, ta, tb)) {
           ++st.setOpsLeftOut;
           return;
         }
