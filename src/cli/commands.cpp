@@ -208,11 +208,13 @@ int Commands::render() {
   if (stats_) {
     std::fprintf(info, "stats: pixels traced %llu, hits %llu, mean steps per ray %.2f, mean evaluations per ray %.2f, "
                 "mean operations per evaluation %.2f, edge pixels %llu (anti-aliased), rays walked in lanes %llu, "
-                "dense rays %llu, Lipschitz steps in set operations' windows %llu, skips above the pile's tops %llu\n",
+                "dense rays %llu, Lipschitz steps in set operations' windows %llu, steps in balls' far windows %llu, "
+                "skips above the pile's tops %llu\n",
                 static_cast<unsigned long long>(stats.rays), static_cast<unsigned long long>(stats.hits), stats.meanStepsPerRay(),
                 stats.meanEvaluationsPerRay(), stats.meanOpsPerEvaluation(), static_cast<unsigned long long>(stats.edgePixels),
                 static_cast<unsigned long long>(stats.laneRays), static_cast<unsigned long long>(stats.denseRays),
-                static_cast<unsigned long long>(stats.windowSteps), static_cast<unsigned long long>(stats.pileSkips));
+                static_cast<unsigned long long>(stats.windowSteps), static_cast<unsigned long long>(stats.farSteps),
+                static_cast<unsigned long long>(stats.pileSkips));
   }
   Status s = writePng(image, out_);
   if (!s) {

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -41,6 +42,7 @@ struct RenderStats {
   std::uint64_t laneRays = 0;     // field-tracer rays whose walk went into SIMD lanes (walk_lanes.h)
   std::uint64_t setOpsLeftOut = 0;  // set operations whose support meets a ray's reach but whose box it misses
   std::uint64_t windowSteps = 0;  // Lipschitz steps inside set operations' windows (RenderOptions::lipschitzInWindows)
+  std::uint64_t farSteps = 0;     // steps inside balls' far windows, alone or in lanes (RenderOptions::ballFarWindows)
   std::uint64_t pileSkips = 0;    // skips above the pile's tops inside set operations' windows (RenderOptions::pileTops)
   double meanStepsPerRay() const { return rays ? static_cast<double>(steps) / rays : 0.0; }
   double meanOpsPerEvaluation() const { return evaluations ? static_cast<double>(opsVisited) / evaluations : 0.0; }
@@ -49,7 +51,7 @@ struct RenderStats {
     rays += o.rays, hits += o.hits, steps += o.steps, evaluations += o.evaluations, opsVisited += o.opsVisited;
     fieldEvaluations += o.fieldEvaluations, edgePixels += o.edgePixels, traceSeconds += o.traceSeconds, shadeSeconds += o.shadeSeconds;
     reshaded += o.reshaded, denseRays += o.denseRays, laneRays += o.laneRays, setOpsLeftOut += o.setOpsLeftOut;
-    windowSteps += o.windowSteps, pileSkips += o.pileSkips;
+    windowSteps += o.windowSteps, farSteps += o.farSteps, pileSkips += o.pileSkips;
     return *this;
   }
 };
@@ -98,6 +100,10 @@ struct RenderOptions {
   // Field tracer: a ball's window is the ray's stretch in the capsule where it can act, not in its
   // box alone (SetOp::round; false: the box; the same picture, slower; for comparison).
   bool roundWindows = true;
+  // Field tracer: a ball's smooth union splits its window into the stretch near the tool and the
+  // stretches beyond it (SetOp::farRaise), where a ray takes Lipschitz steps as outside the
+  // windows (false: interval tests over the whole window; the same picture, slower; for comparison).
+  bool ballFarWindows = true;
   // Patina strokes of a brush at least PatinaCache::kMinReach wide: a hit reads their amounts from
   // a lattice of nodes kept block by block (patina_cache.h) instead of its distance to each stroke
   // (false: every stroke worked out at every hit; nearly the same picture, slower; for comparison).
@@ -287,6 +293,12 @@ class Renderer {
     // is its stretch in the capsule and the box: about a fifth of the box's rays miss the capsule.
     bool round = false;
     double cx = 0.0, cy = 0.0, czlo = 0.0, czhi = 0.0, radius = 0.0;
+    // A ball's smooth union (blend_union with a sphere) raises f without bound only near its
+    // tool: within `nearRadius` of the capsule's axis. Farther out, f < 0 wherever W < -farRaise
+    // (ballFarBound(); docs/rendering.md, "A ball's far windows"), so a ray walks there as
+    // outside the windows, its steps shortened by farRaise. farRaise infinite: no such bound
+    // (every other set operation).
+    double nearRadius = 0.0, farRaise = std::numeric_limits<double>::infinity();
     SetOpUpper upper;  // its upper bounds: over a box (second pass), wherever its tool is (first pass)
     std::uint64_t id = 0;
     // The offsets after it, summed over its support: the shift that moves its tool with the
@@ -410,9 +422,14 @@ class Renderer {
   // The sheet as the lanes read it (walk_lanes.h).
   WalkSheet walkSheet() const;
   // Whether a set-up walk can go into the lanes: after the skips it starts with (which it takes),
-  // a plain walk step (no window, no set operation's support, the slope bound known); `window`
-  // gets the next window's first point, `end` the point where the lane is to stop.
-  bool walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& end) const;
+  // a plain walk step (no window but a ball's far one, no set operation's support, the slope
+  // bound known); `window` gets the next window's first point, `end` the point where the lane is
+  // to stop, `far` the ball's far window it may walk through (WalkLanes::farLo..after).
+  struct LaneFar {
+    long lo = 1, hi = 0, after = 0;
+    double raise = 0.0;
+  };
+  bool walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& end, LaneFar& far) const;
   // The patina's tinges at (x, y) on the sheet: each tinge's strokes there built up.
   Patina patinaAt(double x, double y, std::vector<std::uint32_t>& scratch) const;
   // dirtySpans() before the anti-aliasing's one pixel.

@@ -232,6 +232,9 @@ struct Renderer::RayContext {
   // The most the set operations that can act in each window raise f anywhere (SetOpUpper::
   // raise(), summed; +infinity with a union among them): inside window i, f <= W + winRaise[i].
   double winRaise[kMaxWindows];
+  // Whether window i is a ball's far stretch alone (SetOp::farRaise): f < 0 there wherever W <
+  // -winRaise[i], a threshold rather than a raise that adds up, so any merge makes it unknown.
+  bool winFar[kMaxWindows];
   int windows = 0;
   // Of the set operations listed, those without a window of their own (passed within a hair of
   // their box, not through it): a walk in lanes stops where it may enter their supports.
@@ -264,21 +267,27 @@ struct Renderer::RayContext {
   }
   // Adds a window [lo, hi] where set operations raising f by at most `raise` act, merging
   // overlaps (their raises summed); too many windows become one up to `last`, its raise unknown.
-  void addWindow(long lo, long hi, long last, double raise) {
+  // A far window (`far`: a ball's far stretch, `raise` its farRaise) merged with any other has
+  // an unknown raise.
+  void addWindow(long lo, long hi, long last, double raise, bool far = false) {
     int i = 0;
     while (i < windows && winHi[i] < lo) ++i;
     int j = i;
-    while (j < windows && winLo[j] <= hi) lo = std::min(lo, winLo[j]), hi = std::max(hi, winHi[j]), raise += winRaise[j], ++j;
+    bool farMerged = false;
+    while (j < windows && winLo[j] <= hi)
+      lo = std::min(lo, winLo[j]), hi = std::max(hi, winHi[j]), raise += winRaise[j], farMerged |= far || winFar[j], ++j;
+    if (farMerged) raise = std::numeric_limits<double>::infinity(), far = false;
     if (windows - (j - i) + 1 > kMaxWindows) {
       lo = std::min(lo, winLo[0]);
-      winLo[0] = lo, winHi[0] = last, winRaise[0] = std::numeric_limits<double>::infinity(), windows = 1;
+      winLo[0] = lo, winHi[0] = last, winRaise[0] = std::numeric_limits<double>::infinity(), winFar[0] = false, windows = 1;
       return;
     }
     const int tail = windows - j;
     std::move(winLo + j, winLo + j + tail, winLo + i + 1);
     std::move(winHi + j, winHi + j + tail, winHi + i + 1);
     std::move(winRaise + j, winRaise + j + tail, winRaise + i + 1);
-    winLo[i] = lo, winHi[i] = hi, winRaise[i] = raise;
+    std::move(winFar + j, winFar + j + tail, winFar + i + 1);
+    winLo[i] = lo, winHi[i] = hi, winRaise[i] = raise, winFar[i] = far;
     windows = i + 1 + tail;
   }
   // The first grid point >= q inside a window (or `none`).

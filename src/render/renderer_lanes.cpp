@@ -24,8 +24,9 @@ int laneCount() {
 
 }  // namespace
 
-bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& end) const {
+bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& end, LaneFar& far) const {
   const RayContext& rc = walk.rc;
+  far = LaneFar{};
   if (!rc.lipschitz || rc.dense) return false;
   // The walk's first turns while each is a skip (endWalk()'s loop: the same state after them).
   while (walk.q < walk.q1 && !rc.inWindow(walk.q, walk.q)) {
@@ -36,14 +37,28 @@ bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& en
     walk.known = false;
     walk.prevQ = walk.q0 - 2;
   }
-  if (walk.q >= walk.q1 || walk.known || rc.inWindow(walk.q, walk.q)) return false;
+  if (walk.q >= walk.q1 || walk.known) return false;
+  // The window the walk is in or comes to first: a ball's far window the lane walks through too
+  // (endWalk(): outside the windows' walk, its steps shortened), stopping at its end.
+  int first = 0;
+  while (first < rc.windows && rc.winHi[first] < walk.q) ++first;
+  const bool farAhead = first < rc.windows && rc.winFar[first];
+  if (!farAhead && rc.inWindow(walk.q, walk.q)) return false;
   // The lane stops at the next window, the next skip, the clip's end, or, when a set operation is
   // listed without a window (passed within a hair of its box), where the ray's (x, y) may enter a
   // set operation's support (two points early: f there may not be the workpiece's alone). A set
   // operation whose box (a ball's: capsule) the ray crosses changes f only in the stretch its
   // window holds with a point to spare each way (beginWalkFrom()): before it f is W.
-  window = rc.nextWindow(walk.q + 1, walk.q1 + 1);  // (q is in none: the first after it)
-  end = std::min(walk.q1, window);
+  if (farAhead) {
+    far.lo = rc.winLo[first], far.hi = rc.winHi[first];
+    far.raise = rc.winRaise[first] + kRaiseMargin;  // (as endWalk() has it)
+    far.after = rc.nextWindow(far.hi + 1, walk.q1 + 1);
+    window = std::max(walk.q + 1, far.lo);  // (before it: the step's cap; inside it, `after`)
+    end = std::min(walk.q1, far.hi + 1);
+  } else {
+    window = rc.nextWindow(walk.q + 1, walk.q1 + 1);  // (q is in none: the first after it)
+    end = std::min(walk.q1, window);
+  }
   for (int i = 0; i < rc.skips; ++i)
     if (rc.skipLo[i] > walk.q) end = std::min(end, rc.skipLo[i]);
   if (rc.unwindowed == 0) return true;
@@ -123,11 +138,14 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     walk.shortSteps = static_cast<int>(lane.shortSteps[k]);
     walk.known = lane.state[k] == 3.0;
     if (walk.known) walk.fa = lane.f[k], walk.fl = lane.l[k];
+    // A point of a ball's far window: its f was W's there, not the ray's (never read as f).
+    if (walk.prevQ >= static_cast<long>(lane.farLo[k]) && walk.prevQ <= static_cast<long>(lane.farHi[k]))
+      walk.prevQ = walk.q0 - 2;
     lane.state[k] = 0.0;
     record(pointOf[k], endWalk(walk, st, scratch, false));
   };
   // A walk into lane k.
-  auto load = [&](int k, const Walk& walk, long window, long end) {
+  auto load = [&](int k, const Walk& walk, long window, long end, const LaneFar& far) {
     const glm::dvec3 &o = walk.ray.origin, &d = walk.ray.dir;
     lane.ox[k] = o.x, lane.oy[k] = o.y, lane.oz[k] = o.z;
     lane.dx[k] = d.x, lane.dy[k] = d.y, lane.dz[k] = d.z;
@@ -135,6 +153,8 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     lane.invStep[k] = walk.invStepH8, lane.invRay[k] = walk.invRayH8;
     lane.q0[k] = static_cast<double>(walk.q0), lane.q1[k] = static_cast<double>(walk.q1);
     lane.window[k] = static_cast<double>(window), lane.end[k] = static_cast<double>(end);
+    lane.farLo[k] = static_cast<double>(far.lo), lane.farHi[k] = static_cast<double>(far.hi);
+    lane.farRaise[k] = far.raise, lane.after[k] = static_cast<double>(far.after);
     lane.ax[k] = d.x >= 0 ? d.x : 0.0, lane.bx[k] = d.x < 0 ? d.x : 0.0;
     lane.ay[k] = d.y >= 0 ? d.y : 0.0, lane.by[k] = d.y < 0 ? d.y : 0.0;
     lane.side[k] = workpieceKind_ == 1   ? std::max(std::abs(d.x), std::abs(d.y))
@@ -211,11 +231,12 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
           continue;
         }
         long window = 0, end = 0;
-        if (!walkFitsLanes(walk, st, window, end)) {
+        LaneFar far;
+        if (!walkFitsLanes(walk, st, window, end, far)) {
           record(i, endWalk(walk, st, scratch, false));
           continue;
         }
-        load(k, walk, window, end);
+        load(k, walk, window, end, far);
         ++st.laneRays;
         pointOf[k] = i;
         ++walking;
@@ -224,7 +245,7 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     }
     if (walking == 0) break;
     std::uint64_t evaluations = 0;
-    walkLanes(sheet, lane, st.steps, evaluations);
+    walkLanes(sheet, lane, st.steps, evaluations, st.farSteps);
     st.evaluations += evaluations, st.fieldEvaluations += evaluations;
     for (int k = 0; k < lanes; ++k)
       if (lane.state[k] == 2.0 || lane.state[k] == 3.0) finish(k), --walking;

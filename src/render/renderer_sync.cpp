@@ -506,6 +506,9 @@ void Renderer::refreshSetOpRanges() {
       s.czlo = o.tool.center.z + shift.lo, s.czhi = o.tool.center.z + shift.hi;
       s.radius = o.tool.r + reach + margin;
     }
+    s.nearRadius = 0.0, s.farRaise = std::numeric_limits<double>::infinity();
+    if (s.round)
+      if (const std::optional<BallFar> far = ballFarBound(o, s.radius)) s.nearRadius = far->nearRadius, s.farRaise = far->raise;
   }
 }
 

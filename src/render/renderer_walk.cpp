@@ -59,6 +59,11 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   int crossed = 0;
   double denseA = 1e300, denseB = -1e300, denseRaise = 0.0;
   double crossA[kDenseSetOps], crossB[kDenseSetOps], crossRaise[kDenseSetOps];
+  // A ball's smooth union crossed: the stretch of its window near the tool (crossNearA > crossNearB:
+  // none), the rest of the window far (SetOp::farRaise, its raise there).
+  double crossNearA[kDenseSetOps], crossNearB[kDenseSetOps], crossFarRaise[kDenseSetOps];
+  bool crossFar[kDenseSetOps];
+  const bool farWindows = options_.ballFarWindows && workpieceKind_ != 4;
   double listedRaise = 0.0;  // of those listed without crossing their box: they count in every window
   rayOps.clear();
   const RayClip clip(ray);
@@ -79,7 +84,18 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
     }
     if (crosses) {
       const double raise = s.upper.raise();
-      if (crossed < kDenseSetOps) crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = raise;
+      if (crossed < kDenseSetOps) {
+        crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = raise;
+        crossFar[crossed] = ball && farWindows && std::isfinite(s.farRaise);
+        crossFarRaise[crossed] = s.farRaise;
+        if (crossFar[crossed]) {
+          // The stretch near the tool: the ray in the capsule of nearRadius (grown by the hair)
+          // within the window.
+          double na, nb;
+          const bool near = clipUprightCapsule(ray, s.cx, s.cy, s.czlo, s.czhi, s.nearRadius + s.hair, na, nb);
+          crossNearA[crossed] = near ? std::max(ta, na) : 1.0, crossNearB[crossed] = near ? std::min(tb, nb) : 0.0;
+        }
+      }
       ++crossed, denseA = std::min(denseA, ta), denseB = std::max(denseB, tb), denseRaise += raise;
     } else {
       if (options_.cullRaySetOps) {
@@ -122,9 +138,30 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
       ++st.denseRays;
       rc.addWindow(floorToLong(denseA / h8) - 1, ceilToLong(denseB / h8) + 1, q1, denseRaise + listedRaise);
     } else {
-      for (int i = 0; i < crossed; ++i)
-        rc.addWindow(floorToLong(crossA[i] / h8) - 1, ceilToLong(crossB[i] / h8) + 1, q1, crossRaise[i]);
-      for (int i = 0; i < rc.windows; ++i) rc.winRaise[i] += listedRaise;
+      for (int i = 0; i < crossed; ++i) {
+        const long lo = floorToLong(crossA[i] / h8) - 1, hi = ceilToLong(crossB[i] / h8) + 1;
+        // (Three windows a ball: split only where they all fit, else one window as before.)
+        if (!crossFar[i] || crossed > RayContext::kMaxWindows / 3) {
+          rc.addWindow(lo, hi, q1, crossRaise[i]);
+          continue;
+        }
+        // A ball's smooth union: its near stretch (a point to spare each way) as any window, the
+        // rest of the window before and after it far windows.
+        const double farRaise = crossFarRaise[i];
+        if (crossNearA[i] > crossNearB[i]) {
+          rc.addWindow(lo, hi, q1, farRaise, true);
+          continue;
+        }
+        const long nlo = floorToLong(crossNearA[i] / h8) - 1, nhi = ceilToLong(crossNearB[i] / h8) + 1;
+        if (lo <= nlo - 1) rc.addWindow(lo, nlo - 1, q1, farRaise, true);
+        rc.addWindow(std::max(lo, nlo), std::min(hi, nhi), q1, crossRaise[i]);
+        if (nhi + 1 <= hi) rc.addWindow(nhi + 1, hi, q1, farRaise, true);
+      }
+      // Those listed without a window count in every window; a far one's bound then no longer holds.
+      for (int i = 0; i < rc.windows; ++i) {
+        if (rc.winFar[i] && listedRaise != 0.0) rc.winRaise[i] = std::numeric_limits<double>::infinity(), rc.winFar[i] = false;
+        rc.winRaise[i] += listedRaise;
+      }
     }
     // Above the sheet's front face over the ray's reach f < 0 (outside the windows): a ray from
     // above skips to where it goes under that face's highest point (the clip box also holds the
@@ -171,7 +208,8 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
       endRun(std::min(t, tEnd));
     }
   } else {
-    rc.winLo[0] = q0, rc.winHi[0] = q1, rc.windows = 1;
+    rc.winLo[0] = q0, rc.winHi[0] = q1, rc.winRaise[0] = std::numeric_limits<double>::infinity(), rc.winFar[0] = false;
+    rc.windows = 1;
   }
   // The walk's state at the top of its loop, at its start.
   walk.q = q0;
@@ -291,7 +329,11 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
   while (q < q1) {
     ++st.steps;
     bool cellChecked = false;  // the interval test of [q, q + kCell] ran (and failed)
-    if (!rc.inWindow(q, q)) {
+    const int wq = rc.windowOf(q);
+    if (wq < 0 || rc.winFar[wq]) {
+      // In a ball's far window the walk is the same, its steps shortened by the window's raise:
+      // f < 0 wherever W < -raise there (SetOp::farRaise).
+      const double raise = wq < 0 ? 0.0 : rc.winRaise[wq] + kRaiseMargin;
       if (const long e = rc.skipEnd(q); e >= q) {
         q = e + 1;
         known = false;
@@ -328,18 +370,20 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
         // The cell is searched below; its interval test (the one empty() would make) just failed.
         cellChecked = !rc.dense;
         shortSteps = 5;
-      } else if (fa.l < 0.0) {
+      } else if (const double room = -fa.l - raise; room > 0.0) {
         // The stretch the step can reach when the ray's slope bound is at least kStepRate; a step
         // is never longer than the stretch its bound holds on (lf can be below 1 on a shallow
-        // ray), and the whole ray's bound holds everywhere.
-        const long reachQ = std::min(q1, q + static_cast<long>(std::min(-fa.l * invStepH8, 1e15)) + 1);
+        // ray), and the whole ray's bound holds everywhere. It stops before the next window (in
+        // a far window: the next after it).
+        const long reachQ = std::min(q1, q + static_cast<long>(std::min(room * invStepH8, 1e15)) + 1);
         const Box2 step = xyBox(pq, at(reachQ));
         const Box2 inDomain = step.intersected(dom);
         const double lf = lipschitzAlong(ray.dir, field_.bound(inDomain), workpieceKind_);
-        n = std::min(static_cast<long>(std::min((-fa.l - kPruneEps) / (lf * h8), 1e15)), reachQ - q - 1);
-        n = std::max(n, static_cast<long>(std::min((-fa.l - kPruneEps) * invRayH8, 1e15)));
-        n = std::max(0L, std::min(n, rc.nextWindow(q + 1, q1 + 1) - q - 1));
+        n = std::min(static_cast<long>(std::min((room - kPruneEps) / (lf * h8), 1e15)), reachQ - q - 1);
+        n = std::max(n, static_cast<long>(std::min((room - kPruneEps) * invRayH8, 1e15)));
+        n = std::max(0L, std::min(n, rc.nextWindow(wq < 0 ? q + 1 : rc.winHi[wq] + 1, q1 + 1) - q - 1));
       }
+      if (wq >= 0 && n > 0) ++st.farSteps;
       shortSteps = n < kSubdivisions / 8 ? shortSteps + 1 : 0;
       if (shortSteps < 6) {
         prevQ = q, prevF = fa.f;

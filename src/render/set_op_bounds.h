@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "frep/operation.h"
 
@@ -76,5 +77,18 @@ struct SetOpUpper {
     }
   }
 };
+
+// A ball's smooth union (blend_union with a sphere tool) far from its tool: f + s + bump, s = g +
+// sqrt(f^2 + g^2), bump = a1 / (1 + (f/a2)^2 + (g/a3)^2), g = r^2 - |p - c|^2, tapered towards f
+// (combine() is never above it: it is never below f). At rho0 > r or more from c, g <= -b0 with
+// b0 = rho0^2 - r^2 > 0. With f = -a < 0: for a <= b0, f + s = -a - b + sqrt(a^2 + b^2) <= -a +
+// a^2 / (2 b0); for a > b0, f + s <= -min(a, b) / 2 <= -b0 / 2; the bump is at most bump0 = a1 /
+// (1 + (b0/a3)^2). So combine(f, p) < 0 wherever f < -raise, raise the smaller root of a - a^2 /
+// (2 b0) = bump0 (widened), when b0 / 2 > bump0. rho0 (nearRadius) is the first of 1.5, 2 and 3
+// tool radii below `within` that allows it; none: nullopt.
+struct BallFar {
+  double nearRadius = 0.0, raise = 0.0;
+};
+std::optional<BallFar> ballFarBound(const Operation& op, double within);
 
 }  // namespace emboss

@@ -113,10 +113,16 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   // walk did not come from there, nor start here: Renderer::endWalk()'s bracket).
   // (An outline sheet's lane with f < 0 but its slab >= 0 stops: the ray's own walk searches
   // that cell with the columns' bounds.)
-  const auto go = hn::And(hn::And(hn::And(eval, stepping), hn::Lt(f, zero)), hn::Lt(lb, zero));
+  // In a ball's far window the step is shortened by its raise, and f is not W's: the lane steps
+  // only where W < -raise (then f < 0), and never brackets (endWalk(): room = -l - raise).
+  const auto inFar = hn::And(hn::Ge(q, hn::Load(d, w.farLo)), hn::Le(q, hn::Load(d, w.farHi)));
+  const V farBy = hn::IfThenElseZero(inFar, hn::Load(d, w.farRaise));
+  const V room = hn::Sub(hn::Neg(lb), farBy);
+  const auto go = hn::Or(hn::And(inFar, hn::And(hn::And(eval, stepping), hn::Gt(room, zero))),
+                         hn::AndNot(inFar, hn::And(hn::And(hn::And(eval, stepping), hn::Lt(f, zero)), hn::Lt(lb, zero))));
   V n = zero;
   if (!hn::AllFalse(d, go)) {
-    const V cap = hn::Set(d, 1e15), negF = hn::Neg(lb);
+    const V cap = hn::Set(d, 1e15), negF = room;
     // The stretch the step can reach when the ray's slope bound is at least kStepRate.
     const V reachQ =
         MinOf(hn::Load(d, w.q1), hn::Add(hn::Add(q, hn::Trunc(MinOf(hn::Mul(negF, hn::Load(d, w.invStep)), cap))), one));
@@ -165,7 +171,7 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
     const V num = hn::Sub(negF, hn::Set(d, 1e-7));  // kPruneEps
     const V n1 = MinOf(hn::Trunc(MinOf(hn::Div(num, hn::Mul(lf, h8)), cap)), hn::Sub(hn::Sub(reachQ, q), one));
     const V n2 = hn::Trunc(MinOf(hn::Mul(num, hn::Load(d, w.invRay)), cap));
-    const V nextWindow = MaxOf(hn::Add(q, one), hn::Load(d, w.window));
+    const V nextWindow = MaxOf(hn::Add(q, one), hn::IfThenElse(inFar, hn::Load(d, w.after), hn::Load(d, w.window)));
     n = MaxOf(zero, MinOf(MaxOf(n1, n2), hn::Sub(hn::Sub(nextWindow, q), one)));
   }
   // Six short steps in a row: the ray's own walk searches a cell instead.
@@ -182,13 +188,17 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   hn::Store(hn::IfThenElse(hn::Or(step, bracketed), f, hn::Load(d, w.prevF)), d, w.prevF);
   hn::Store(hn::IfThenElse(step, shortNew, shortSteps), d, w.shortSteps);
   counts[0] += hn::CountTrue(d, step);
+  counts[2] += hn::CountTrue(d, hn::And(step, inFar));
   // A hit (f >= 0) to bracket; stopped with f at q (a hit bracketed or not to be, f neither below
   // nor above zero, creeping), or without (off the field, or at a window, a skip or the clip's end).
-  const auto found = hn::And(hn::And(eval, stepping), hn::Ge(f, zero));
+  // (In a far window: no hit is bracketed, and a lane that stops there stops without f.)
+  const auto found = hn::AndNot(inFar, hn::And(hn::And(eval, stepping), hn::Ge(f, zero)));
   const auto toBracket =
       hn::AndNot(hn::Or(hn::Eq(q, hn::Load(d, w.q0)), hn::Eq(prevQ, hn::Sub(q, one))), found);
-  const auto withF = hn::Or(hn::Or(hn::AndNot(go, hn::And(eval, stepping)), creep), bracketing);
-  const auto without = hn::Or(hn::AndNot(eval, stepping), hn::And(step, hn::Ge(qNew, hn::Load(d, w.end))));
+  const auto stopsHere = hn::Or(hn::AndNot(go, hn::And(eval, stepping)), creep);
+  const auto withF = hn::Or(hn::AndNot(inFar, stopsHere), bracketing);
+  const auto without = hn::Or(hn::Or(hn::AndNot(eval, stepping), hn::And(step, hn::Ge(qNew, hn::Load(d, w.end)))),
+                              hn::And(inFar, stopsHere));
   hn::Store(hn::IfThenElse(hn::And(eval, stepping), f, hn::Load(d, w.f)), d, w.f);
   hn::Store(hn::IfThenElse(hn::And(eval, stepping), lb, hn::Load(d, w.l)), d, w.l);
   hn::Store(hn::IfThenElse(toBracket, hn::Set(d, 4.0),
@@ -281,10 +291,11 @@ int sheetNormalLanes(const WalkSheet& sheet, const double* x, const double* y, c
   return HWY_DYNAMIC_DISPATCH(SheetNormalLanes)(sheet, x, y, z, dv, dgx, dgy, n, nx, ny, nz);
 }
 
-void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations) {
-  uint64_t counts[2] = {0, 0};
+void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations,
+               std::uint64_t& farSteps) {
+  uint64_t counts[3] = {0, 0, 0};
   HWY_DYNAMIC_DISPATCH(WalkLanesStep)(sheet, lanes, counts);
-  steps += counts[0], evaluations += counts[1];
+  steps += counts[0], evaluations += counts[1], farSteps += counts[2];
 }
 
 }  // namespace emboss

@@ -82,6 +82,12 @@ struct WalkLanes {
   alignas(64) double q0[kMaxWalkLanes], q1[kMaxWalkLanes];  // the clip's start and end
   alignas(64) double window[kMaxWalkLanes];   // the next window's first point (q1 + 1: none)
   alignas(64) double end[kMaxWalkLanes];      // the lane stops on reaching it (a window, a skip, q1)
+  // A ball's far window the lane walks through (farLo > farHi: none; Renderer::SetOp::farRaise):
+  // inside it a step is shortened by farRaise (the window's raise and its margin, as the ray's own
+  // walk has it) and goes at most to `after`, the first window point after it; where it cannot
+  // step, and at a near miss creeping, the lane stops without f (f there is not W's: the ray's own
+  // walk evaluates it). The lane ends at farHi + 1 at the latest.
+  alignas(64) double farLo[kMaxWalkLanes], farHi[kMaxWalkLanes], farRaise[kMaxWalkLanes], after[kMaxWalkLanes];
   // lipschitzAlong()'s terms of the direction: d.x where d.x >= 0 (else 0), d.x where d.x < 0
   // (else 0), the same of d.y, and the workpiece's term of (d.x, d.y).
   alignas(64) double ax[kMaxWalkLanes], bx[kMaxWalkLanes], ay[kMaxWalkLanes], by[kMaxWalkLanes];
@@ -95,8 +101,10 @@ struct WalkLanes {
 // How many rays a step walks at once here (1: no SIMD; the caller walks them alone).
 int walkLaneCount();
 // One step of each walking lane (states 1 and 4); a lane that stops gets state 2 or 3. Adds the
-// steps taken and the function evaluations made to `steps` and `evaluations`.
-void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations);
+// steps taken and the function evaluations made to `steps` and `evaluations`, and the steps taken
+// inside balls' far windows to `farSteps`.
+void walkLanes(const WalkSheet& sheet, WalkLanes& lanes, std::uint64_t& steps, std::uint64_t& evaluations,
+               std::uint64_t& farSteps);
 
 // Renderer::fieldNormal() of a plate, a disc or an outline sheet (where W is its slab: the caller
 // checks) where no set operation acts, at the hits (x[k],

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <tuple>
 #include <vector>
 
 #include "render/set_op_bounds.h"
@@ -103,6 +104,50 @@ TEST(SetOpBounds, StayBelowZeroAboveAPile) {
   EXPECT_LT(hi, -5.0);
   // Wherever the subtractions' tools are, their bumps raise f there by less than 1 in all.
   EXPECT_LT(anywhere, -4.9);
+}
+
+// A ball's smooth union far from its tool: at nearRadius or more from the centre, combine(f, p) < 0
+// for every f below -raise (a few tool sizes of f, and far below); and the raise is nearly the
+// least that holds: a tenth less, some f in between gives combine(f, p) >= 0 there (so a bound a
+// tenth short fails). Balls of the kiosk's, the generator's and other sizes and blends.
+TEST(SetOpBounds, ABallsUnionIsBelowZeroFarFromItWhereFIsBelowItsRaise) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int balls = 0, tight = 0;
+  for (const auto& [r, a1, a2, a3] : {std::tuple{2.0, 0.27, 1.0, 2.0}, {1.5, 0.4, 1.0, 3.0}, {0.6, 0.5, 0.8, 1.2},
+                                      {3.0, 1.0, 2.0, 6.0}, {1.0, 0.0, 1.0, 1.0}, {0.3, 0.4, 1.0, 0.6}}) {
+    Operation o = blend(OpKind::BlendUnion, ToolShape::Type::Sphere, {0.5, -0.7, 2.0});
+    o.tool.r = r, o.a1 = a1, o.a2 = a2, o.a3 = a3;
+    const PreparedOp op(o);
+    const std::optional<BallFar> far = ballFarBound(o, 1e9);
+    if (!far) continue;
+    ++balls;
+    EXPECT_GT(far->nearRadius, r);
+    bool reached = false;
+    for (int k = 0; k < 20000; ++k) {
+      // A point at nearRadius to 3 of it from the centre, in any direction.
+      const double dist = far->nearRadius * (1.0 + (k % 4 == 0 ? 0.0 : 2.0 * u(rng) * u(rng)));
+      double v[3];
+      double len = 0.0;
+      do {
+        for (double& c : v) c = 2.0 * u(rng) - 1.0;
+        len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      } while (len < 1e-3);
+      const P3<double> p{o.tool.center.x + dist * v[0] / len, o.tool.center.y + dist * v[1] / len,
+                         o.tool.center.z + dist * v[2] / len};
+      // f from just below -raise to far below it.
+      const double f = -far->raise * (1.0 + 1e-9) - (k % 3 == 0 ? 0.0 : 20.0 * std::pow(u(rng), 3.0));
+      ASSERT_LT(op.combine(f, p), 0.0) << "r " << r << ", a1 " << a1 << ": f " << f << " at " << dist << " from the centre";
+      // Between a tenth below the raise and the raise, at nearRadius itself: somewhere >= 0.
+      if (k % 4 == 0) {
+        const double g = -far->raise * (0.9 + 0.1 * u(rng));
+        reached |= op.combine(g, p) >= 0.0;
+      }
+    }
+    tight += reached;
+  }
+  EXPECT_EQ(balls, 6) << "every ball here has a far bound";
+  EXPECT_EQ(tight, 5) << "a tenth less than the raise fails for every ball with a bump (a1 > 0)";
 }
 
 }  // namespace

@@ -155,6 +155,53 @@ TEST(WalkLanes, ABallsRoundWindowGivesTheBytesOfItsBox) {
   EXPECT_GT(leftOut[1], leftOut[0] + 1000) << "the capsules leave out the rays through their boxes' corners";
 }
 
+// A ball's smooth union: away from its tool a ray walks its window as outside it, its steps
+// shortened by the ball's far raise (SetOp::farRaise); the same bytes as the whole window searched
+// by intervals, from every view, in full frames and as a dirty update traces (no pile tops):
+// balls resting on the relief and floating above it, of several sizes and blends, with offsets
+// after them (their shift fields move the tool); and the far windows are walked.
+TEST(WalkLanes, ABallsFarWindowsGiveTheBytesOfItsWholeWindow) {
+  PieceOptions opt;
+  opt.width = 80, opt.height = 60, opt.toolScale = 2.0;
+  const GeneratedPiece piece = generatePiece(120, 45, opt);
+  auto model = piece.makeModel();
+  ASSERT_TRUE(model.ok()) << model.error();
+  const double top = piece.workpiece->halfThickness();
+  auto ball = [&](double x, double y, double z, double r, double a1, double a2, double a3) {
+    Operation o;
+    o.kind = OpKind::BlendUnion;
+    o.tool.type = ToolShape::Type::Sphere;
+    o.tool.center = {x, y, z}, o.tool.r = r;
+    o.a1 = a1, o.a2 = a2, o.a3 = a3;
+    ASSERT_TRUE(model->add(o).ok());
+  };
+  ball(-12.0, 6.0, top + 1.2, 2.0, 0.27, 1.0, 2.0);  // the kiosk's bead, resting on the sheet
+  ball(10.0, -4.0, top + 6.0, 1.0, 0.5, 1.0, 1.0);   // floating above it
+  ball(2.0, 14.0, top + 2.0, 3.0, 1.0, 2.0, 6.0);    // a big one, a strong blend
+  PieceRandom rng(11);
+  for (int k = 0; k < 12; ++k) ASSERT_TRUE(model->add(randomPunch(rng, piece, opt.toolScale)).ok());
+  ThreadPool pool(2);
+  std::uint64_t steps[2] = {0, 0};
+  for (const CameraSpec& view : viewsOf(piece.camera)) {
+    const Camera camera(view, 200, 130);
+    for (const bool pileTops : {true, false}) {
+      Image images[2];
+      for (int far = 0; far < 2; ++far) {
+        RenderOptions o;
+        o.ballFarWindows = far == 1;
+        o.pileTops = pileTops;
+        RenderStats st;
+        images[far] = frameWith(pool, *model, camera, o, st);
+        steps[far] += st.farSteps;
+      }
+      int differing = 0;
+      const std::string first = compare(images[0], images[1], differing);
+      EXPECT_EQ(differing, 0) << "pile tops " << pileTops << ": first at " << first;
+    }
+  }
+  EXPECT_GT(steps[1], steps[0] + 1000) << "rays step through the balls' far windows";
+}
+
 // The capsule's stretch of a ray against points along it: inside within the radius, outside
 // beyond it (rays from every side, through, past and along the axis).
 TEST(WalkLanes, AnUprightCapsulesStretchHoldsThePointsWithinItsRadius) {
