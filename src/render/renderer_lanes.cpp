@@ -125,6 +125,7 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
   thread_local std::vector<const SetOp*> ops[kMaxWalkLanes];
   int pointOf[kMaxWalkLanes];
   for (int k = 0; k < kMaxWalkLanes; ++k) lane.state[k] = 0.0;
+  lane.farLanes = 0;
   auto record = [&](int i, const std::optional<Hit>& hit) {
     out[i] = hit;
     if (kept) kept[i] = hit ? hit->t : std::numeric_limits<double>::infinity();
@@ -141,6 +142,7 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     // A point of a ball's far window: its f was W's there, not the ray's (never read as f).
     if (walk.prevQ >= static_cast<long>(lane.farLo[k]) && walk.prevQ <= static_cast<long>(lane.farHi[k]))
       walk.prevQ = walk.q0 - 2;
+    if (lane.farLo[k] <= lane.farHi[k]) --lane.farLanes;
     lane.state[k] = 0.0;
     record(pointOf[k], endWalk(walk, st, scratch, false));
   };
@@ -155,6 +157,7 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     lane.window[k] = static_cast<double>(window), lane.end[k] = static_cast<double>(end);
     lane.farLo[k] = static_cast<double>(far.lo), lane.farHi[k] = static_cast<double>(far.hi);
     lane.farRaise[k] = far.raise, lane.after[k] = static_cast<double>(far.after);
+    if (far.lo <= far.hi) ++lane.farLanes;
     lane.ax[k] = d.x >= 0 ? d.x : 0.0, lane.bx[k] = d.x < 0 ? d.x : 0.0;
     lane.ay[k] = d.y >= 0 ? d.y : 0.0, lane.by[k] = d.y < 0 ? d.y : 0.0;
     lane.side[k] = workpieceKind_ == 1   ? std::max(std::abs(d.x), std::abs(d.y))

@@ -71,17 +71,19 @@ std::optional<BallFar> ballFarBound(const Operation& op, double within) {
   if (op.kind != OpKind::BlendUnion || op.tool.type != ToolShape::Type::Sphere) return std::nullopt;
   const double r = op.tool.r, a1 = std::max(op.a1, 0.0), invA3 = 1.0 / op.a3;
   if (!(r > 0.0) || !std::isfinite(invA3)) return std::nullopt;
+  std::optional<BallFar> found;
   for (const double k : {1.5, 2.0, 3.0}) {
     const double rho0 = k * r;
-    if (!(rho0 < within)) return std::nullopt;
+    if (!(rho0 < within)) break;
     const double b0 = rho0 * rho0 - r * r;
     const double bump0 = a1 / (1.0 + b0 * b0 * invA3 * invA3);
     if (!(b0 > 2.0 * bump0 * (1.0 + 1e-6) + 1e-9)) continue;
     // The smaller root, without cancellation.
     const double root = 2.0 * b0 * bump0 / (b0 + std::sqrt(b0 * b0 - 2.0 * b0 * bump0));
-    return BallFar{rho0, root * (1.0 + 1e-6) + 1e-9};
+    found = BallFar{rho0, root * (1.0 + 1e-6) + 1e-9};
+    if (found->raise <= kFarRaiseWanted) break;
   }
-  return std::nullopt;
+  return found;
 }
 
 }  // namespace emboss

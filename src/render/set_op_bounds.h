@@ -84,11 +84,15 @@ struct SetOpUpper {
 // b0 = rho0^2 - r^2 > 0. With f = -a < 0: for a <= b0, f + s = -a - b + sqrt(a^2 + b^2) <= -a +
 // a^2 / (2 b0); for a > b0, f + s <= -min(a, b) / 2 <= -b0 / 2; the bump is at most bump0 = a1 /
 // (1 + (b0/a3)^2). So combine(f, p) < 0 wherever f < -raise, raise the smaller root of a - a^2 /
-// (2 b0) = bump0 (widened), when b0 / 2 > bump0. rho0 (nearRadius) is the first of 1.5, 2 and 3
-// tool radii below `within` that allows it; none: nullopt.
+// (2 b0) = bump0 (widened), when b0 / 2 > bump0. rho0 (nearRadius) is one of 1.5, 2 and 3 tool
+// radii below `within` (kFarRaiseWanted); none: nullopt.
 struct BallFar {
   double nearRadius = 0.0, raise = 0.0;
 };
+// The raise a far window is cut for: the first rho0 whose raise is at most this (else the last that
+// has one). Near the sheet a walk creeps through the raise's height; the near stretch is searched
+// by intervals.
+inline constexpr double kFarRaiseWanted = 0.05;
 std::optional<BallFar> ballFarBound(const Operation& op, double within);
 
 }  // namespace emboss

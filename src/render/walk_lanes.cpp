@@ -25,7 +25,10 @@ using WalkTag = hn::CappedTag<double, kMaxWalkLanes>;
 
 int WalkLaneCount() { return static_cast<int>(hn::Lanes(WalkTag())); }
 
-void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
+// kFar: some lane has a ball's far window (WalkLanes::farLanes); without, the step is the one
+// before far windows, none of their terms worked out.
+template <bool kFar>
+void StepLanes(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   const WalkTag d;
   using V = hn::Vec<WalkTag>;
   const size_t lanes = hn::Lanes(d);
@@ -115,11 +118,15 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   // that cell with the columns' bounds.)
   // In a ball's far window the step is shortened by its raise, and f is not W's: the lane steps
   // only where W < -raise (then f < 0), and never brackets (endWalk(): room = -l - raise).
-  const auto inFar = hn::And(hn::Ge(q, hn::Load(d, w.farLo)), hn::Le(q, hn::Load(d, w.farHi)));
-  const V farBy = hn::IfThenElseZero(inFar, hn::Load(d, w.farRaise));
-  const V room = hn::Sub(hn::Neg(lb), farBy);
-  const auto go = hn::Or(hn::And(inFar, hn::And(hn::And(eval, stepping), hn::Gt(room, zero))),
-                         hn::AndNot(inFar, hn::And(hn::And(hn::And(eval, stepping), hn::Lt(f, zero)), hn::Lt(lb, zero))));
+  const auto plainGo = hn::And(hn::And(hn::And(eval, stepping), hn::Lt(f, zero)), hn::Lt(lb, zero));
+  auto inFar = hn::FirstN(d, 0);
+  V room = hn::Neg(lb);
+  auto go = plainGo;
+  if constexpr (kFar) {
+    inFar = hn::And(hn::Ge(q, hn::Load(d, w.farLo)), hn::Le(q, hn::Load(d, w.farHi)));
+    room = hn::Sub(room, hn::IfThenElseZero(inFar, hn::Load(d, w.farRaise)));
+    go = hn::Or(hn::And(inFar, hn::And(hn::And(eval, stepping), hn::Gt(room, zero))), hn::AndNot(inFar, plainGo));
+  }
   V n = zero;
   if (!hn::AllFalse(d, go)) {
     const V cap = hn::Set(d, 1e15), negF = room;
@@ -171,7 +178,8 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
     const V num = hn::Sub(negF, hn::Set(d, 1e-7));  // kPruneEps
     const V n1 = MinOf(hn::Trunc(MinOf(hn::Div(num, hn::Mul(lf, h8)), cap)), hn::Sub(hn::Sub(reachQ, q), one));
     const V n2 = hn::Trunc(MinOf(hn::Mul(num, hn::Load(d, w.invRay)), cap));
-    const V nextWindow = MaxOf(hn::Add(q, one), hn::IfThenElse(inFar, hn::Load(d, w.after), hn::Load(d, w.window)));
+    const V nextWindow =
+        MaxOf(hn::Add(q, one), kFar ? hn::IfThenElse(inFar, hn::Load(d, w.after), hn::Load(d, w.window)) : hn::Load(d, w.window));
     n = MaxOf(zero, MinOf(MaxOf(n1, n2), hn::Sub(hn::Sub(nextWindow, q), one)));
   }
   // Six short steps in a row: the ray's own walk searches a cell instead.
@@ -188,7 +196,7 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   hn::Store(hn::IfThenElse(hn::Or(step, bracketed), f, hn::Load(d, w.prevF)), d, w.prevF);
   hn::Store(hn::IfThenElse(step, shortNew, shortSteps), d, w.shortSteps);
   counts[0] += hn::CountTrue(d, step);
-  counts[2] += hn::CountTrue(d, hn::And(step, inFar));
+  if constexpr (kFar) counts[2] += hn::CountTrue(d, hn::And(step, inFar));
   // A hit (f >= 0) to bracket; stopped with f at q (a hit bracketed or not to be, f neither below
   // nor above zero, creeping), or without (off the field, or at a window, a skip or the clip's end).
   // (In a far window: no hit is bracketed, and a lane that stops there stops without f.)
@@ -204,6 +212,11 @@ void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
   hn::Store(hn::IfThenElse(toBracket, hn::Set(d, 4.0),
                            hn::IfThenElse(withF, hn::Set(d, 3.0), hn::IfThenElse(without, hn::Set(d, 2.0), state))),
             d, w.state);
+}
+
+void WalkLanesStep(const WalkSheet& sheet, WalkLanes& w, uint64_t* counts) {
+  if (w.farLanes > 0) StepLanes<true>(sheet, w, counts);
+  else StepLanes<false>(sheet, w, counts);
 }
 
 // The gradient's min: a.v <= b.v ? a : b (grad.h), value and slopes together.

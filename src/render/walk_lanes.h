@@ -88,6 +88,7 @@ struct WalkLanes {
   // step, and at a near miss creeping, the lane stops without f (f there is not W's: the ray's own
   // walk evaluates it). The lane ends at farHi + 1 at the latest.
   alignas(64) double farLo[kMaxWalkLanes], farHi[kMaxWalkLanes], farRaise[kMaxWalkLanes], after[kMaxWalkLanes];
+  int farLanes = 0;  // how many lanes have a far window (none: the step reads none of the above)
   // lipschitzAlong()'s terms of the direction: d.x where d.x >= 0 (else 0), d.x where d.x < 0
   // (else 0), the same of d.y, and the workpiece's term of (d.x, d.y).
   alignas(64) double ax[kMaxWalkLanes], bx[kMaxWalkLanes], ay[kMaxWalkLanes], by[kMaxWalkLanes];
