@@ -122,13 +122,19 @@ TEST(WalkLanes, SetOperationsGiveTheSameBytesAsEveryWalkAlone) {
   expectPiece(opt, 120, 43, 4, "plate with set operations");
 }
 
+// The plate the balls' tests work on: 80 x 60 mm, its tools twice the generator's size.
+PieceOptions ballsPlate() {
+  PieceOptions opt;
+  opt.width = 80, opt.height = 60, opt.toolScale = 2.0;
+  return opt;
+}
+
 // A ball's window is the ray's stretch in the capsule where it can change f (the box's corners
 // left out), and a lane walks to it over the ball's support: the same bytes as the box's windows,
 // with offsets after the balls (their shift fields make the capsule tall), from every view; and
 // the capsule does leave rays out.
 TEST(WalkLanes, ABallsRoundWindowGivesTheBytesOfItsBox) {
-  PieceOptions opt;
-  opt.width = 80, opt.height = 60, opt.toolScale = 2.0;
+  const PieceOptions opt = ballsPlate();
   const GeneratedPiece piece = generatePiece(120, 44, opt);
   auto model = piece.makeModel();
   ASSERT_TRUE(model.ok()) << model.error();
@@ -161,8 +167,7 @@ TEST(WalkLanes, ABallsRoundWindowGivesTheBytesOfItsBox) {
 // balls resting on the relief and floating above it, of several sizes and blends, with offsets
 // after them (their shift fields move the tool); and the far windows are walked.
 TEST(WalkLanes, ABallsFarWindowsGiveTheBytesOfItsWholeWindow) {
-  PieceOptions opt;
-  opt.width = 80, opt.height = 60, opt.toolScale = 2.0;
+  const PieceOptions opt = ballsPlate();
   const GeneratedPiece piece = generatePiece(120, 45, opt);
   auto model = piece.makeModel();
   ASSERT_TRUE(model.ok()) << model.error();
