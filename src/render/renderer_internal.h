@@ -236,6 +236,9 @@ struct Renderer::RayContext {
   // -winRaise[i], a threshold rather than a raise that adds up, so any merge makes it unknown.
   bool winFar[kMaxWindows];
   int windows = 0;
+  // What a walk's step in far window i is shortened by (its raise and the rounding's margin): the
+  // walk alone and the lanes read this one value, so that they take the same steps.
+  double farRaiseOf(int i) const { return winRaise[i] + render_internal::kRaiseMargin; }
   // Of the set operations listed, those without a window of their own (passed within a hair of
   // their box, not through it): a walk in lanes stops where it may enter their supports.
   int unwindowed = 0;

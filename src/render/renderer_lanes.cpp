@@ -51,7 +51,7 @@ bool Renderer::walkFitsLanes(Walk& walk, RenderStats& st, long& window, long& en
   // window holds with a point to spare each way (beginWalkFrom()): before it f is W.
   if (farAhead) {
     far.lo = rc.winLo[first], far.hi = rc.winHi[first];
-    far.raise = rc.winRaise[first] + kRaiseMargin;  // (as endWalk() has it)
+    far.raise = rc.farRaiseOf(first);
     far.after = rc.nextWindow(far.hi + 1, walk.q1 + 1);
     window = std::max(walk.q + 1, far.lo);  // (before it: the step's cap; inside it, `after`)
     end = std::min(walk.q1, far.hi + 1);

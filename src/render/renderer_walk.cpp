@@ -60,9 +60,8 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
   double denseA = 1e300, denseB = -1e300, denseRaise = 0.0;
   double crossA[kDenseSetOps], crossB[kDenseSetOps], crossRaise[kDenseSetOps];
   // A ball's smooth union crossed: the stretch of its window near the tool (crossNearA > crossNearB:
-  // none), the rest of the window far (SetOp::farRaise, its raise there).
+  // none), the rest of the window far (its raise there, SetOp::farRaise; infinite: not a ball's).
   double crossNearA[kDenseSetOps], crossNearB[kDenseSetOps], crossFarRaise[kDenseSetOps];
-  bool crossFar[kDenseSetOps];
   const bool farWindows = options_.ballFarWindows && workpieceKind_ != 4;
   double listedRaise = 0.0;  // of those listed without crossing their box: they count in every window
   rayOps.clear();
@@ -86,9 +85,8 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
       const double raise = s.upper.raise();
       if (crossed < kDenseSetOps) {
         crossA[crossed] = ta, crossB[crossed] = tb, crossRaise[crossed] = raise;
-        crossFar[crossed] = ball && farWindows && std::isfinite(s.farRaise);
-        crossFarRaise[crossed] = s.farRaise;
-        if (crossFar[crossed]) {
+        crossFarRaise[crossed] = ball && farWindows ? s.farRaise : std::numeric_limits<double>::infinity();
+        if (std::isfinite(crossFarRaise[crossed])) {
           // The stretch near the tool: the ray in the capsule of nearRadius (grown by the hair)
           // within the window.
           double na, nb;
@@ -141,13 +139,13 @@ bool Renderer::beginWalkFrom(const RayStart& start, RenderStats& st, std::vector
       for (int i = 0; i < crossed; ++i) {
         const long lo = floorToLong(crossA[i] / h8) - 1, hi = ceilToLong(crossB[i] / h8) + 1;
         // (Three windows a ball: split only where they all fit, else one window as before.)
-        if (!crossFar[i] || crossed > RayContext::kMaxWindows / 3) {
+        const double farRaise = crossFarRaise[i];
+        if (!std::isfinite(farRaise) || crossed > RayContext::kMaxWindows / 3) {
           rc.addWindow(lo, hi, q1, crossRaise[i]);
           continue;
         }
         // A ball's smooth union: its near stretch (a point to spare each way) as any window, the
         // rest of the window before and after it far windows.
-        const double farRaise = crossFarRaise[i];
         if (crossNearA[i] > crossNearB[i]) {
           rc.addWindow(lo, hi, q1, farRaise, true);
           continue;
@@ -333,7 +331,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
     if (wq < 0 || rc.winFar[wq]) {
       // In a ball's far window the walk is the same, its steps shortened by the window's raise:
       // f < 0 wherever W < -raise there (SetOp::farRaise).
-      const double raise = wq < 0 ? 0.0 : rc.winRaise[wq] + kRaiseMargin;
+      const double raise = wq < 0 ? 0.0 : rc.farRaiseOf(wq);
       if (const long e = rc.skipEnd(q); e >= q) {
         q = e + 1;
         known = false;
@@ -383,7 +381,7 @@ std::optional<Renderer::Hit> Renderer::endWalk(Walk& walk, RenderStats& st, std:
         n = std::max(n, static_cast<long>(std::min((room - kPruneEps) * invRayH8, 1e15)));
         n = std::max(0L, std::min(n, rc.nextWindow(wq < 0 ? q + 1 : rc.winHi[wq] + 1, q1 + 1) - q - 1));
       }
-      if (wq >= 0 && n > 0) ++st.farSteps;
+      if (wq >= 0) ++st.farSteps;
       shortSteps = n < kSubdivisions / 8 ? shortSteps + 1 : 0;
       if (shortSteps < 6) {
         prevQ = q, prevF = fa.f;
