@@ -130,22 +130,6 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     out[i] = hit;
     if (kept) kept[i] = hit ? hit->t : std::numeric_limits<double>::infinity();
   };
-  // Lane k into the walk it stopped, which goes on alone.
-  auto finish = [&](int k) {
-    Walk& walk = walks[k];
-    walk.q = static_cast<long>(lane.q[k]);
-    walk.prevQ = static_cast<long>(lane.prevQ[k]);
-    walk.prevF = lane.prevF[k];
-    walk.shortSteps = static_cast<int>(lane.shortSteps[k]);
-    walk.known = lane.state[k] == 3.0;
-    if (walk.known) walk.fa = lane.f[k], walk.fl = lane.l[k];
-    // A point of a ball's far window: its f was W's there, not the ray's (never read as f).
-    if (walk.prevQ >= static_cast<long>(lane.farLo[k]) && walk.prevQ <= static_cast<long>(lane.farHi[k]))
-      walk.prevQ = walk.q0 - 2;
-    if (lane.farLo[k] <= lane.farHi[k]) --lane.farLanes;
-    lane.state[k] = 0.0;
-    record(pointOf[k], endWalk(walk, st, scratch, false));
-  };
   // A walk into lane k.
   auto load = [&](int k, const Walk& walk, long window, long end, const LaneFar& far) {
     const glm::dvec3 &o = walk.ray.origin, &d = walk.ray.dir;
@@ -167,6 +151,36 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     lane.prevF[k] = walk.prevF, lane.shortSteps[k] = walk.shortSteps;
     lane.f[k] = lane.l[k] = 0.0;
     lane.state[k] = 1.0;
+  };
+  // Lane k into the walk it stopped, which goes on alone (true) or in the lane again (false).
+  auto finish = [&](int k) -> bool {
+    Walk& walk = walks[k];
+    walk.q = static_cast<long>(lane.q[k]);
+    walk.prevQ = static_cast<long>(lane.prevQ[k]);
+    walk.prevF = lane.prevF[k];
+    walk.shortSteps = static_cast<int>(lane.shortSteps[k]);
+    walk.known = lane.state[k] == 3.0;
+    if (walk.known) walk.fa = lane.f[k], walk.fl = lane.l[k];
+    // A point of a ball's far window: its f was W's there, not the ray's (never read as f).
+    if (walk.prevQ >= static_cast<long>(lane.farLo[k]) && walk.prevQ <= static_cast<long>(lane.farHi[k]))
+      walk.prevQ = walk.q0 - 2;
+    if (lane.farLo[k] <= lane.farHi[k]) --lane.farLanes;
+    lane.state[k] = 0.0;
+    // A lane that stopped without f at the end of its stretch (a ball's far window passed, a
+    // skip or a window reached; not one stopped off the field) goes on in lanes from there where
+    // the rest of the walk fits them again (walkFitsLanes(): endWalk()'s turns through a skip
+    // first): the same points, the same hit. Until stop 75 it went on alone: every ray that
+    // passed under the ball of the visitor's sheet, high in its capsule, walked down alone.
+    if (!walk.known && walk.q >= static_cast<long>(lane.end[k]) && walk.q < walk.q1) {
+      long window = 0, end = 0;
+      LaneFar far;
+      if (walkFitsLanes(walk, st, window, end, far)) {
+        load(k, walk, window, end, far);
+        return false;
+      }
+    }
+    record(pointOf[k], endWalk(walk, st, scratch, false));
+    return true;
   };
   // The rays that walk, set up in lanes: their index among them (kKept for a kept hit reused,
   // kMisses for a ray outside the projection of every surface).
@@ -251,7 +265,7 @@ void Renderer::findFieldHits(const double* xs, const double* ys, int count, cons
     walkLanes(sheet, lane, st.steps, evaluations, st.farSteps);
     st.evaluations += evaluations, st.fieldEvaluations += evaluations;
     for (int k = 0; k < lanes; ++k)
-      if (lane.state[k] == 2.0 || lane.state[k] == 3.0) finish(k), --walking;
+      if ((lane.state[k] == 2.0 || lane.state[k] == 3.0) && finish(k)) --walking;
   }
 }
 
